@@ -1,0 +1,27 @@
+"""ergosim: a digital twin of ergonomic human-robot role allocation.
+
+Implements Merlo, Lamon et al., "An Ergonomic Role Allocation Framework for Dynamic Human-Robot
+Collaborative Tasks": AND/OR-graph task models with per-agent hyper-arcs, an AO* allocator, RULA and the
+Kinematic Wear index, in a MuJoCo workcell with a Franka Emika Panda and a kinematic human upper body.
+"""
+
+__version__ = "0.1.0"
+
+from ergosim.errors import (  # noqa: E402
+    ConfigError,
+    ErgosimError,
+    InfeasiblePlanError,
+    ModelError,
+    RecordingError,
+    TaskFileError,
+)
+
+__all__ = [
+    "__version__",
+    "ErgosimError",
+    "TaskFileError",
+    "InfeasiblePlanError",
+    "ConfigError",
+    "ModelError",
+    "RecordingError",
+]

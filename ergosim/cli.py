@@ -1,0 +1,50 @@
+"""The ``ergosim`` command line.
+
+Each subcommand lives in ``ergosim/commands/<name>.py`` and exposes ``add_parser(subparsers)`` and
+``run(args) -> int``. Errors from the :class:`~ergosim.errors.ErgosimError` family are printed as one
+line on stderr with exit status 2, never as a traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+
+from ergosim import __version__
+from ergosim.errors import ErgosimError
+
+__all__ = ["main", "build_parser"]
+
+COMMANDS = ("plan",)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="ergosim",
+        description="Digital twin of ergonomic human-robot role allocation (Merlo, Lamon et al.).",
+    )
+    parser.add_argument("--version", action="version", version=f"ergosim {__version__}")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    for name in COMMANDS:
+        module = importlib.import_module(f"ergosim.commands.{name}")
+        sp = module.add_parser(sub)
+        sp.set_defaults(_run=module.run)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return int(args._run(args) or 0)
+    except ErgosimError as err:
+        print(f"ergosim: error: {err}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("ergosim: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

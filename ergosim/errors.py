@@ -1,0 +1,45 @@
+"""One error family for everything a user can get wrong.
+
+Every error carries where it happened (a file, a table entry, a CLI option) and what was expected, so the
+CLI can print it as a single line without a traceback.
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "ErgosimError",
+    "TaskFileError",
+    "InfeasiblePlanError",
+    "ConfigError",
+    "ModelError",
+    "RecordingError",
+]
+
+
+class ErgosimError(Exception):
+    """Base class. ``str(err)`` is one line: ``<where>: <what>``."""
+
+    def __init__(self, what: str, *, where: str | None = None) -> None:
+        self.what = " ".join(str(what).split())
+        self.where = where
+        super().__init__(f"{where}: {self.what}" if where else self.what)
+
+
+class TaskFileError(ErgosimError):
+    """A task file (TOML) that cannot be read or is inconsistent."""
+
+
+class InfeasiblePlanError(ErgosimError):
+    """The AND/OR graph has no complete plan from the current configuration."""
+
+
+class ConfigError(ErgosimError):
+    """A bad scene, scenario or cost parameter (e.g. an unknown ``--set`` key)."""
+
+
+class ModelError(ErgosimError):
+    """A MuJoCo/URDF model that cannot be found, built or compiled."""
+
+
+class RecordingError(ErgosimError):
+    """A motion-capture recording (e.g. BVH) that cannot be parsed."""
