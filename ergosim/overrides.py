@@ -1,0 +1,105 @@
+"""Override fields of a frozen config dataclass by name, from ``KEY=VALUE`` strings (``--set``).
+
+Configuration is code (frozen dataclasses with ``default_config()``); this module is the single place
+that turns user strings into typed field values, so every scene and scenario gets the same errors.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import typing
+from collections.abc import Iterable, Mapping
+from typing import Any
+
+from ergosim.errors import ConfigError
+
+__all__ = ["parse_assignments", "apply_overrides", "field_names"]
+
+
+def parse_assignments(items: Iterable[str], *, where: str = "--set") -> dict[str, str]:
+    """``["a=1", "scene.b=x"]`` -> ``{"a": "1", "scene.b": "x"}``; a malformed item is a ConfigError."""
+    out: dict[str, str] = {}
+    for item in items:
+        key, sep, value = item.partition("=")
+        key = key.strip()
+        if not sep or not key:
+            raise ConfigError(f"expected KEY=VALUE, got {item!r}", where=where)
+        out[key] = value.strip()
+    return out
+
+
+def field_names(cfg: Any) -> tuple[str, ...]:
+    return tuple(f.name for f in dataclasses.fields(cfg) if f.init and not f.name.startswith("_"))
+
+
+def _convert(raw: Any, annotation: Any, key: str, where: str) -> Any:
+    origin = typing.get_origin(annotation)
+    args = typing.get_args(annotation)
+    if origin in (typing.Union, getattr(__import__("types"), "UnionType", None)):
+        errors = []
+        for arg in args:
+            if arg is type(None):
+                if isinstance(raw, str) and raw.lower() in ("none", "null", ""):
+                    return None
+                continue
+            try:
+                return _convert(raw, arg, key, where)
+            except ConfigError as err:
+                errors.append(err.what)
+        raise ConfigError(f"{key}={raw!r}: " + "; ".join(errors), where=where)
+    if origin is typing.Literal:
+        if raw in args:
+            return raw
+        raise ConfigError(f"{key}={raw!r} is not one of {', '.join(map(str, args))}", where=where)
+    if origin is tuple:
+        parts = raw if isinstance(raw, (tuple, list)) else [p for p in str(raw).split(",") if p.strip()]
+        elem = args[0] if args else str
+        return tuple(_convert(p.strip() if isinstance(p, str) else p, elem, key, where) for p in parts)
+    if annotation is bool:
+        if isinstance(raw, bool):
+            return raw
+        low = str(raw).lower()
+        if low in ("1", "true", "yes", "on"):
+            return True
+        if low in ("0", "false", "no", "off"):
+            return False
+        raise ConfigError(f"{key}={raw!r} is not a boolean (true/false)", where=where)
+    if annotation is int:
+        try:
+            return int(str(raw), 10) if not isinstance(raw, int) else raw
+        except ValueError:
+            raise ConfigError(f"{key}={raw!r} is not an integer", where=where) from None
+    if annotation is float:
+        try:
+            value = float(raw)
+        except (TypeError, ValueError):
+            raise ConfigError(f"{key}={raw!r} is not a number", where=where) from None
+        if not math.isfinite(value):
+            raise ConfigError(f"{key}={raw!r} is not a finite number", where=where)
+        return value
+    if annotation is str:
+        return str(raw)
+    return raw
+
+
+def apply_overrides(cfg: Any, overrides: Mapping[str, Any], *, where: str = "--set") -> Any:
+    """A copy of the frozen dataclass ``cfg`` with ``overrides`` applied and type-converted.
+
+    Unknown keys raise :class:`ConfigError` listing the valid ones. If the dataclass defines
+    ``validate()``, it runs on the result (range checks live with the config they guard).
+    """
+    if not overrides:
+        return cfg
+    hints = typing.get_type_hints(type(cfg))
+    valid = field_names(cfg)
+    changes: dict[str, Any] = {}
+    for key, raw in overrides.items():
+        if key not in valid:
+            raise ConfigError(f"unknown key {key!r}; valid keys: {', '.join(valid)}", where=where)
+        changes[key] = _convert(raw, hints[key], key, where)
+    new = dataclasses.replace(cfg, **changes)
+    validate = getattr(new, "validate", None)
+    if callable(validate):
+        validate(where=where)
+    return new
