@@ -1,0 +1,100 @@
+"""What one simulated subject produces: allocation decisions and per-tick ergonomics.
+
+These are plain data, filled by the loop (:mod:`ergosim.twin.loop`) and consumed by the report
+(:mod:`ergosim.twin.report`) and the recorder; nothing here runs the simulation.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from ergosim.posture import ANGLE_NAMES, KWEAR_JOINTS
+
+__all__ = ["Allocation", "TickLog", "SubjectRun", "RULA_PARTS", "TICK_COLUMNS"]
+
+RULA_PARTS = ("upper_arm", "lower_arm", "wrist", "wrist_twist", "neck", "trunk", "legs")
+
+TICK_COLUMNS: tuple[str, ...] = (
+    ("repetition", "t", "acting", "dropout")
+    + ANGLE_NAMES
+    + tuple(f"rula_{p}" for p in RULA_PARTS)
+    + ("rula_grand",)
+    + tuple(f"kwear_{j}" for j in KWEAR_JOINTS)
+)
+"""Columns of ``ticks.csv`` after ``subject`` and ``mode``; angles in degrees, t in seconds."""
+
+
+@dataclasses.dataclass(frozen=True)
+class Allocation:
+    """One executed action: who did it, what the planner saw, and when (sim time [s])."""
+
+    subject: int
+    mode: str
+    repetition: int
+    order: int
+    action: str
+    agent: str
+    human_cost: float
+    robot_cost: float
+    t_start: float
+    t_end: float
+    had_choice: bool
+    status: str = "ok"
+
+
+class TickLog:
+    """Preallocated per-tick buffers at the ergonomics rate; grows by doubling, never per tick.
+
+    Row layout follows :data:`TICK_COLUMNS`. ``kwear`` is (n, 5) in ``KWEAR_JOINTS`` order.
+    """
+
+    def __init__(self, capacity: int = 4096) -> None:
+        self._data = np.full((max(capacity, 16), len(TICK_COLUMNS)), np.nan)
+        self.n = 0
+
+    def append(self, row: np.ndarray) -> None:
+        if self.n == self._data.shape[0]:
+            self._data = np.concatenate([self._data, np.full_like(self._data, np.nan)])
+        self._data[self.n] = row
+        self.n += 1
+
+    @property
+    def rows(self) -> np.ndarray:
+        """(n, len(TICK_COLUMNS)) view of the filled rows."""
+        return self._data[: self.n]
+
+    def column(self, name: str) -> np.ndarray:
+        return self.rows[:, TICK_COLUMNS.index(name)]
+
+    @property
+    def kwear(self) -> np.ndarray:
+        start = TICK_COLUMNS.index(f"kwear_{KWEAR_JOINTS[0]}")
+        return self.rows[:, start : start + len(KWEAR_JOINTS)]
+
+
+@dataclasses.dataclass
+class SubjectRun:
+    """Everything one subject produced in one mode."""
+
+    subject: int
+    mode: str
+    allocations: list[Allocation]
+    ticks: TickLog
+    repetitions_completed: int
+    takt_overruns: int
+    dt_tick: float
+    v_th: float
+    failures: list[str] = dataclasses.field(default_factory=list)
+    calibration_eta: dict[str, int] = dataclasses.field(default_factory=dict)
+
+    @property
+    def kwear_integral(self) -> float:
+        """Physical-load proxy: ∫ Σ_i V_i dt over the run [s]."""
+        return float(self.ticks.kwear.sum() * self.dt_tick)
+
+    @property
+    def time_above_threshold(self) -> float:
+        """Seconds during which at least one joint had V_i ≥ V_th."""
+        return float((self.ticks.kwear >= self.v_th).any(axis=1).sum() * self.dt_tick)

@@ -1,0 +1,114 @@
+"""The paper's two experiments (§7) as scenario configurations.
+
+A scenario is data: a frozen :class:`ScenarioConfig` per name, overridable by name from the CLI
+(``--set takt=40``); keys prefixed ``scene.`` are forwarded to the workcell's own config
+(``--set scene.shelf_height=1.9``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Literal
+
+from ergosim.errors import ConfigError
+
+__all__ = ["MODES", "ScenarioConfig", "scenario_names", "scenario_config"]
+
+MODES = ("hrc", "rula", "h-only", "r-only")
+"""hrc: KWear-driven allocation; rula: static RULA baseline; h-only / r-only: single-agent baselines."""
+
+
+@dataclasses.dataclass(frozen=True)
+class ScenarioConfig:
+    """Parameters of one scenario run. Times in seconds, rates in Hz, costs dimensionless."""
+
+    scene: str
+    task: str
+    subjects: int
+    repetitions: int
+    modes: tuple[str, ...]
+    robot_cost: float
+    """c_{h,w_r}: the constant cost of every robot hyper-arc (paper §4)."""
+    takt: float = 38.0
+    gamma: float = 100.0
+    """Γ: penalty added to γ_i when V̂_i ≥ V_th (eq. 11)."""
+    v_th: float = 0.8
+    """V_th,i for every monitored joint (80 % of the KWear range, paper §7.1)."""
+    rula_g_max: float = 9.0
+    """G_max of the static RULA baseline; the paper takes 9, the top of Table A (§7.1)."""
+    rula_threshold_fraction: float = 0.8
+    ergonomics_rate: float = 20.0
+    mocap_rate: float = 60.0
+    physics_dt: float = 0.002
+    ee_speed: float = 0.05
+    """Robot end-effector speed [m/s]; the paper's conservative 0.05 m/s."""
+    eta0: int = 2
+    eta_max: int = 10
+    v_des: float = 1e-3
+    """Ṽ_des: target maximum KWear prediction error of the calibration (§5)."""
+    online_alpha_weight: float = 0.0
+    """Weight of the latest execution in the online α average (§5); 0 keeps the calibrated α."""
+    noise_scale: float = 1.0
+    dropout_rate: float = 0.0
+    planner: Literal["fast", "paper"] = "fast"
+    fixed_sequence: bool = False
+
+    def validate(self, where: str = "scenario") -> None:
+        def need(ok: bool, msg: str) -> None:
+            if not ok:
+                raise ConfigError(msg, where=where)
+
+        need(self.subjects >= 1, f"subjects must be >= 1, got {self.subjects}")
+        need(self.repetitions >= 1, f"repetitions must be >= 1, got {self.repetitions}")
+        need(self.takt > 0, f"takt must be > 0 s, got {self.takt}")
+        need(all(m in MODES for m in self.modes) and len(self.modes) > 0,
+             f"modes must be among {', '.join(MODES)}, got {','.join(self.modes)}")
+        need(self.robot_cost > 0, f"robot_cost must be > 0, got {self.robot_cost}")
+        need(self.gamma > 0, f"gamma must be > 0, got {self.gamma}")
+        need(0 < self.v_th < 1, f"v_th must be in (0, 1), got {self.v_th}")
+        need(self.mocap_rate > 0 and self.ergonomics_rate > 0, "rates must be > 0 Hz")
+        ratio = self.mocap_rate / self.ergonomics_rate
+        need(abs(ratio - round(ratio)) < 1e-9 and ratio >= 1,
+             f"mocap_rate ({self.mocap_rate} Hz) must be a whole multiple of ergonomics_rate "
+             f"({self.ergonomics_rate} Hz)")
+        need(0 < self.physics_dt <= 1 / self.mocap_rate,
+             f"physics_dt must be in (0, 1/mocap_rate], got {self.physics_dt}")
+        need(self.ee_speed > 0, f"ee_speed must be > 0 m/s, got {self.ee_speed}")
+        need(2 <= self.eta0 <= self.eta_max, f"need 2 <= eta0 <= eta_max, got {self.eta0}, {self.eta_max}")
+        need(self.v_des > 0, f"v_des must be > 0, got {self.v_des}")
+        need(0 <= self.online_alpha_weight <= 1, "online_alpha_weight must be in [0, 1]")
+        need(self.noise_scale >= 0, "noise_scale must be >= 0")
+        need(0 <= self.dropout_rate < 1, "dropout_rate must be in [0, 1)")
+        need(0 < self.rula_threshold_fraction <= 1, "rula_threshold_fraction must be in (0, 1]")
+
+    @property
+    def rula_threshold(self) -> float:
+        """G_th = fraction × G_max (7.2 with the paper's values)."""
+        return self.rula_threshold_fraction * self.rula_g_max
+
+
+_SCENARIOS: dict[str, ScenarioConfig] = {
+    # §7.1: one subject, 4 repetitions of the fixed sequence a1..a5 at the shelf workcell.
+    "kwear-validation": ScenarioConfig(
+        scene="kwear-validation", task="kwear-validation", subjects=1, repetitions=4,
+        modes=("hrc", "rula"), robot_cost=50.0, gamma=100.0, v_th=0.8, fixed_sequence=True,
+    ),
+    # §7.2: 12 subjects, 10 repetitions each in HRC and H-only, a2-a4 in any order, a5 human only.
+    "multi-subject": ScenarioConfig(
+        scene="multi-subject", task="multi-subject", subjects=12, repetitions=10,
+        modes=("hrc", "h-only"), robot_cost=2.5, gamma=100.0, v_th=0.8,
+    ),
+}
+
+
+def scenario_names() -> tuple[str, ...]:
+    return tuple(_SCENARIOS)
+
+
+def scenario_config(name: str) -> ScenarioConfig:
+    try:
+        return _SCENARIOS[name]
+    except KeyError:
+        raise ConfigError(
+            f"unknown scenario {name!r}; valid scenarios: {', '.join(_SCENARIOS)}", where="ergosim run"
+        ) from None
