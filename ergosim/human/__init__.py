@@ -1,0 +1,23 @@
+"""The kinematic human upper body: anthropometry, MJCF generation, and the canonical-angle view."""
+
+from ergosim.human.anthropometry import PROPORTIONS, SEGMENT_SCALES, Segments, segment_lengths
+from ergosim.human.joints import JOINT_SPECS, JointSpec, joint_spec
+from ergosim.human.mjcf import HOME_POSTURE, humanoid_xml
+from ergosim.human.model import EYE_SITE, HAND_SITES, ROOT_BODY, HumanModel, human_spec
+
+__all__ = [
+    "PROPORTIONS",
+    "SEGMENT_SCALES",
+    "Segments",
+    "segment_lengths",
+    "JOINT_SPECS",
+    "JointSpec",
+    "joint_spec",
+    "HOME_POSTURE",
+    "humanoid_xml",
+    "EYE_SITE",
+    "HAND_SITES",
+    "ROOT_BODY",
+    "HumanModel",
+    "human_spec",
+]

@@ -1,0 +1,160 @@
+"""MJCF text of the kinematic human upper body, generated from :class:`~ergosim.human.anthropometry.Segments`.
+
+The layout follows mujoco_menagerie (compiler, default, asset, worldbody, keyframe; 2-space indent). All
+geoms are capsules with ``contype=0 conaffinity=0``: the human is driven kinematically and never pushes the
+robot or a part (a held part is attached by a weld made by the scene, see ``Workcell.grasp``). Every body has
+``gravcomp="1"`` and the hinges are damped so that a physics step between two mocap frames leaves the human
+where the stream put it. Default classes are prefixed ``human_`` so that the human can be attached into a
+scene that already has ``visual``/``collision`` classes (the Panda's) without a name clash.
+"""
+
+from __future__ import annotations
+
+import math
+
+from ergosim.human.anthropometry import Segments
+from ergosim.human.joints import JOINT_SPECS, joint_spec
+
+__all__ = ["HOME_POSTURE", "humanoid_xml"]
+
+HOME_POSTURE: dict[str, float] = {"elbow_flexion": 10.0, "left_elbow_flexion": 10.0}
+"""The ``home`` keyframe [deg]: upright, arms hanging, elbows relaxed; every other angle 0."""
+
+
+def _num(x: float) -> str:
+    s = f"{x:.4f}".rstrip("0").rstrip(".")
+    return "0" if s in ("-0", "") else s
+
+
+def _vec(*xs: float) -> str:
+    return " ".join(_num(x) for x in xs)
+
+
+def _joint(pad: str, name: str) -> str:
+    j = joint_spec(name)
+    lo, hi = (math.radians(a) for a in j.range_deg)
+    return f'{pad}<joint name="{name}" axis="{_vec(*j.axis)}" range="{_vec(lo, hi)}"/>'
+
+
+def _capsule(pad: str, name: str, a: tuple, b: tuple, r: float, cls: str = "human_visual",
+             mat: str = "") -> str:
+    material = f' material="{mat}"' if mat else ""
+    return (f'{pad}<geom name="{name}" class="{cls}" fromto="{_vec(*a, *b)}" size="{_num(r)}"'
+            f"{material}/>")
+
+
+def _arm(s: Segments, side: str, pad: str) -> list[str]:
+    """Clavicle -> upper arm -> forearm -> hand for ``side`` in ("right", "left")."""
+    sgn = -1.0 if side == "right" else 1.0  # y of this side
+    pre = "" if side == "right" else "left_"
+    h = s.stature
+    sc = (s.sc_forward, sgn * s.sc_lateral, s.lumbar_to_c7 - s.c7_to_shoulder - s.sc_below)
+    gh = (-s.sc_forward, sgn * (s.shoulder_half_width - s.sc_lateral), s.sc_below)
+    palm = (0.0, -sgn * 0.014 * h, -0.5 * s.hand)  # palm faces the midline
+    p1, p2, p3, p4 = (pad + "  " * k for k in range(1, 5))
+    return [
+        f'{pad}<body name="human_{side}_clavicle" pos="{_vec(*sc)}" gravcomp="1">',
+        _joint(p1, pre + "shoulder_elevation"),
+        _capsule(p1, f"human_{side}_clavicle", (0, 0, 0), gh, 0.018 * h, mat="human_cloth"),
+        f'{p1}<body name="human_{side}_upper_arm" pos="{_vec(*gh)}" gravcomp="1">',
+        _joint(p2, pre + "shoulder_flexion"),
+        _joint(p2, pre + "shoulder_abduction"),
+        _joint(p2, pre + "shoulder_rotation"),
+        _capsule(p2, f"human_{side}_upper_arm", (0, 0, 0), (0, 0, -s.upper_arm), 0.026 * h,
+                 mat="human_cloth"),
+        f'{p2}<body name="human_{side}_forearm" pos="{_vec(0, 0, -s.upper_arm)}" gravcomp="1">',
+        _joint(p3, pre + "elbow_flexion"),
+        _joint(p3, pre + "forearm_pronation"),
+        _capsule(p3, f"human_{side}_forearm", (0, 0, 0), (0, 0, -s.forearm), 0.020 * h),
+        f'{p3}<body name="human_{side}_hand" pos="{_vec(0, 0, -s.forearm)}" gravcomp="1">',
+        _joint(p4, pre + "wrist_flexion"),
+        _joint(p4, pre + "wrist_deviation"),
+        _capsule(p4, f"human_{side}_hand", (0, 0, -0.12 * s.hand), (0, 0, -0.8 * s.hand), 0.012 * h),
+        _capsule(p4, f"human_{side}_hand_collision", (0, 0, -0.12 * s.hand), (0, 0, -0.8 * s.hand),
+                 0.012 * h, cls="human_collision"),
+        f'{p4}<site name="human_hand_{side}" pos="{_vec(*palm)}"/>',
+        f"{p3}</body>",
+        f"{p2}</body>",
+        f"{p1}</body>",
+        f"{pad}</body>",
+    ]
+
+
+def humanoid_xml(s: Segments, model_name: str = "humanoid_upper", keyframe: str | None = "home") -> str:
+    """The MJCF document of the human with segments ``s``; the root body ``human_pelvis`` has no joint.
+
+    The pelvis body sits at the hip-joint height above the parent frame's origin, so placing the parent frame
+    on the floor at the worker's position puts the person standing there, facing +x.
+    """
+    h = s.stature
+    hip_y = 0.55 * s.hip_half_width
+    ankle = -(s.thigh + s.shank)
+    sh_z = s.lumbar_to_c7 - s.c7_to_shoulder
+    lines = [
+        f'<mujoco model="{model_name}">',
+        '  <compiler angle="radian" autolimits="true"/>',
+        "",
+        "  <default>",
+        '    <default class="human">',
+        '      <joint type="hinge" damping="2" armature="0.05"/>',
+        '      <geom type="capsule" contype="0" conaffinity="0" density="1000"/>',
+        '      <site type="sphere" size="0.01" group="4" rgba="1 0.3 0.1 1"/>',
+        '      <default class="human_visual">',
+        '        <geom group="2" material="human_skin"/>',
+        "      </default>",
+        '      <default class="human_collision">',
+        '        <geom group="3" density="0"/>',
+        "      </default>",
+        "    </default>",
+        "  </default>",
+        "",
+        "  <asset>",
+        '    <material name="human_skin" rgba="0.87 0.72 0.6 1"/>',
+        '    <material name="human_cloth" rgba="0.25 0.4 0.6 1"/>',
+        '    <material name="human_trousers" rgba="0.2 0.2 0.25 1"/>',
+        "  </asset>",
+        "",
+        "  <worldbody>",
+        f'    <body name="human_pelvis" childclass="human" pos="{_vec(0, 0, s.hip_height)}" gravcomp="1">',
+        _capsule("      ", "human_pelvis", (0, -hip_y, 0.03 * h), (0, hip_y, 0.03 * h), 0.055 * h,
+                 mat="human_trousers"),
+    ]
+    for side, y in (("right", -hip_y), ("left", hip_y)):
+        lines += [
+            _capsule("      ", f"human_{side}_thigh", (0, y, 0), (0, y, -s.thigh), 0.034 * h,
+                     mat="human_trousers"),
+            _capsule("      ", f"human_{side}_shank", (0, y, -s.thigh), (0, y, ankle), 0.024 * h,
+                     mat="human_trousers"),
+            _capsule("      ", f"human_{side}_foot", (-0.02 * h, y, ankle), (0.7 * s.foot, y, ankle),
+                     0.02 * h,
+                     mat="human_trousers"),
+        ]
+    lines += [
+        f'      <body name="human_torso" pos="{_vec(0, 0, s.lumbar_above_hip)}" gravcomp="1">',
+        *(_joint("        ", n) for n in ("trunk_flexion", "trunk_lateral_bend", "trunk_rotation")),
+        _capsule("        ", "human_abdomen", (0, -0.5 * s.chest_half_width, 0.04 * h),
+                 (0, 0.5 * s.chest_half_width, 0.04 * h), 0.06 * h, mat="human_cloth"),
+        _capsule("        ", "human_spine", (0, 0, 0.04 * h), (0, 0, sh_z - 0.05 * h), 0.065 * h,
+                 mat="human_cloth"),
+        _capsule("        ", "human_chest", (0, -0.75 * s.chest_half_width, sh_z - 0.045 * h),
+                 (0, 0.75 * s.chest_half_width, sh_z - 0.045 * h), 0.06 * h, mat="human_cloth"),
+        f'        <body name="human_head" pos="{_vec(0, 0, s.lumbar_to_c7)}" gravcomp="1">',
+        *(_joint("          ", n) for n in ("neck_flexion", "neck_lateral_bend", "neck_rotation")),
+        _capsule("          ", "human_neck", (0, 0, -0.01 * h), (0.01 * h, 0, 0.5 * s.c7_to_eye), 0.028 * h),
+        _capsule("          ", "human_head", (0.02 * h, 0, s.c7_to_eye - 0.03 * h),
+                 (0.02 * h, 0, s.c7_to_eye + s.head_top_above_eye - 0.055 * h), 0.055 * h),
+        f'          <site name="human_eyes" pos="{_vec(s.eye_forward, 0, s.c7_to_eye)}"/>',
+        "        </body>",
+        *_arm(s, "right", "        "),
+        *_arm(s, "left", "        "),
+        "      </body>",
+        "    </body>",
+        "  </worldbody>",
+    ]
+    if keyframe:
+        # JOINT_SPECS lists the hinges in the order of their bodies in the tree, which is the qpos order.
+        qpos = [math.radians(HOME_POSTURE.get(j.name, 0.0)) for j in JOINT_SPECS]
+        lines += ["", "  <keyframe>", f'    <key name="{keyframe}" qpos="{_vec(*qpos)}"/>', "  </keyframe>"]
+    lines += ["</mujoco>", ""]
+    return "\n".join(lines)
+
