@@ -1,0 +1,30 @@
+"""The simulated worker: IK with natural priors, minimum-jerk motion, subjects, mocap stream, ergonomics."""
+
+from ergosim.worker.ik import IKPrior, IKSolution, UpperBodyIK, default_prior, log_so3
+from ergosim.worker.minimum_jerk import fitts_duration, interpolate_keyframes, min_jerk, min_jerk_velocity
+from ergosim.worker.motion import ActionMotion, Phase, SceneView, Worker
+from ergosim.worker.stream import MocapFrames, MocapStream, MotionPlayback
+from ergosim.worker.subjects import Subject, make_subject, make_subjects, rest_angles
+
+__all__ = [
+    "IKPrior",
+    "IKSolution",
+    "UpperBodyIK",
+    "default_prior",
+    "log_so3",
+    "fitts_duration",
+    "interpolate_keyframes",
+    "min_jerk",
+    "min_jerk_velocity",
+    "ActionMotion",
+    "Phase",
+    "SceneView",
+    "Worker",
+    "MocapFrames",
+    "MocapStream",
+    "MotionPlayback",
+    "Subject",
+    "make_subject",
+    "make_subjects",
+    "rest_angles",
+]

@@ -1,0 +1,282 @@
+"""Whole-upper-body inverse kinematics of the kinematic human, with natural posture priors.
+
+One hand's grasp site is driven to a target position (and optionally orientation) by a damped Gauss-Newton
+(Levenberg-Marquardt) solve of a regularised least-squares problem over the trunk and that arm:
+
+    min_q  |p(q) - p*|^2 / s_p^2  +  |log(R* R(q)^T)|^2 / s_R^2  +  sum_j (q_j - q_pref_j)^2 / s_j^2
+           + max(0, elbow_comfort - q_elbow)^2 / s_elbow^2,            subject to the joint ranges.
+
+The task terms have tiny tolerances (s_p = 0.5 mm), so the priors act in the task's null space: the trunk has
+a stiff prior (a few degrees), so it bends or twists only when the arm alone cannot reach comfortably (the
+one-sided elbow term makes an almost straight arm expensive); the shoulder abduction and rotation priors keep
+the elbow low. The neck is not part of the solve: the head looks at the hand's target (:meth:`look_at`),
+with the eyes taking the first few degrees of gaze, so near, low targets flex the neck.
+
+Angles are in degrees at the interface (HUMAN_JOINTS order, (22,)), radians inside.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from typing import NamedTuple
+
+import mujoco
+import numpy as np
+
+from ergosim.human.model import HumanModel
+from ergosim.posture import ARM, HUMAN_JOINTS, TRUNK
+
+__all__ = ["IKPrior", "IKSolution", "UpperBodyIK", "default_prior", "log_so3"]
+
+_IDX = {n: i for i, n in enumerate(HUMAN_JOINTS)}
+
+
+@dataclass(frozen=True)
+class IKPrior:
+    """Preferred angles and their softness, (22,) each in HUMAN_JOINTS order [deg], plus gaze sharing.
+
+    ``sigma_deg`` is how far a joint may move from ``pref_deg`` for the cost of one unit (a large sigma is a
+    free joint). Outside the comfort box [``comfort_lo_deg``, ``comfort_hi_deg``] a joint costs one unit per
+    ``comfort_sigma_deg`` more: an almost straight elbow or an arm behind the back is expensive, so the
+    trunk takes over. ``neck_turn_deg``: how far the head turns comfortably; a target whose azimuth is beyond
+    neck + eyes makes the trunk's preferred rotation face it (people turn to what they work on).
+    ``eye_down_deg``/``eye_up_deg``/``eye_side_deg``: gaze the eyes take before the neck moves.
+    """
+
+    pref_deg: np.ndarray
+    sigma_deg: np.ndarray
+    comfort_lo_deg: np.ndarray
+    comfort_hi_deg: np.ndarray
+    comfort_sigma_deg: float = 4.0
+    neck_turn_deg: float = 35.0
+    eye_down_deg: float = 20.0
+    eye_up_deg: float = 5.0
+    eye_side_deg: float = 15.0
+
+    def jittered(self, rng: np.random.Generator, deg: float) -> IKPrior:
+        """A copy whose preferred angles are perturbed by N(0, deg) (trial-to-trial variability)."""
+        return replace(self, pref_deg=self.pref_deg + rng.normal(0.0, deg, self.pref_deg.shape))
+
+
+def default_prior(trunk_use: float = 1.0, elbow_comfort_deg: float = 25.0) -> IKPrior:
+    """Natural priors; ``trunk_use`` > 1 is a person who bends/twists the trunk sooner (stoop style)."""
+    pref = np.zeros(len(HUMAN_JOINTS))
+    sigma = np.full(len(HUMAN_JOINTS), 30.0)
+    lo_c = np.full(len(HUMAN_JOINTS), -360.0)
+    hi_c = np.full(len(HUMAN_JOINTS), 360.0)
+    box = {"elbow_flexion": (elbow_comfort_deg, 360.0), "shoulder_flexion": (-15.0, 360.0),
+           "shoulder_abduction": (-25.0, 360.0)}
+    arm = {
+        "shoulder_flexion": (15.0, 70.0),
+        "shoulder_abduction": (8.0, 18.0),  # elbow stays low
+        "shoulder_rotation": (25.0, 30.0),
+        "shoulder_elevation": (0.0, 10.0),  # shrug only when needed
+        "elbow_flexion": (80.0, 80.0),
+        "forearm_pronation": (20.0, 35.0),
+        "wrist_flexion": (0.0, 18.0),
+        "wrist_deviation": (0.0, 12.0),
+    }
+    for prefix in ("", "left_"):
+        for name, (p, s) in arm.items():
+            pref[_IDX[prefix + name]], sigma[_IDX[prefix + name]] = p, s
+        for name, (lo, hi) in box.items():
+            lo_c[_IDX[prefix + name]], hi_c[_IDX[prefix + name]] = lo, hi
+    for name, s in (("trunk_flexion", 6.0), ("trunk_lateral_bend", 4.0), ("trunk_rotation", 6.0)):
+        sigma[_IDX[name]] = s * trunk_use
+    return IKPrior(pref, sigma, lo_c, hi_c)
+
+
+class IKSolution(NamedTuple):
+    """Result of one solve: (22,) angles [deg], residual position error [m] and rotation error [deg]."""
+
+    angles: np.ndarray
+    pos_error: float
+    rot_error_deg: float
+    iterations: int
+
+
+def log_so3(r: np.ndarray) -> np.ndarray:
+    """Rotation vector of a 3x3 rotation matrix [rad]."""
+    cos = np.clip(0.5 * (np.trace(r) - 1.0), -1.0, 1.0)
+    angle = np.arccos(cos)
+    w = np.array([r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]])
+    if angle < 1e-6:
+        return 0.5 * w
+    if np.pi - angle < 1e-4:  # near pi the skew part vanishes; take the axis from the symmetric part
+        axis = np.sqrt(np.maximum((np.diag(r) + 1.0) * 0.5, 0.0))
+        k = int(np.argmax(axis))
+        axis = (r[:, k] + r[k, :]) * 0.5 / max(axis[k], 1e-9)
+        axis[k] = np.sqrt(max((r[k, k] + 1.0) * 0.5, 0.0))
+        return angle * axis / np.linalg.norm(axis)
+    return angle / (2.0 * np.sin(angle)) * w
+
+
+class UpperBodyIK:
+    """IK on a compiled model containing the human (use the small standalone human model for speed).
+
+    Targets are in that model's world frame. Not thread-safe: owns one MjData.
+    """
+
+    def __init__(self, model: mujoco.MjModel, prior: IKPrior | None = None, pos_tol: float = 5e-4,
+                 max_iter: int = 80, rel_tol: float = 1e-3) -> None:
+        self.model = model
+        self.data = mujoco.MjData(model)
+        self.human = HumanModel(model)
+        self.prior = prior if prior is not None else default_prior()
+        self.s_pos = pos_tol
+        self.s_rot = np.deg2rad(0.5)
+        self.max_iter = max_iter
+        self.rel_tol = rel_tol
+        self.active = {
+            side: np.array([_IDX[n] for n in TRUNK] + [_IDX[prefix + n] for n in ARM])
+            for side, prefix in (("right", ""), ("left", "left_"))
+        }
+        self.lo = np.deg2rad(self.human.range_deg[:, 0])
+        self.hi = np.deg2rad(self.human.range_deg[:, 1])
+        self.torso = model.body("human_torso").id
+        self.neck = np.array([_IDX["neck_flexion"], _IDX["neck_lateral_bend"], _IDX["neck_rotation"]])
+        self._jacp = np.zeros((3, model.nv))
+        self._jacr = np.zeros((3, model.nv))
+
+    def _fk(self, q: np.ndarray) -> None:
+        self.data.qpos[self.human.qadr] = q
+        mujoco.mj_kinematics(self.model, self.data)
+
+    def solve(self, q0_deg: np.ndarray, target: np.ndarray, side: str = "right",
+              target_rot: np.ndarray | None = None, prior: IKPrior | None = None,
+              max_iter: int | None = None) -> IKSolution:
+        """Drive the ``side`` hand site to ``target`` (3,) [m] (and (3, 3) ``target_rot``) from ``q0_deg``.
+
+        Sequential quadratic programming: each iteration minimises the posture cost (quadratic, diagonal)
+        subject to the linearised task, closed form through the KKT system; joints that hit their range are
+        frozen and the step re-solved. Unreachable targets converge to the damped best approach.
+        """
+        pr = prior if prior is not None else self.prior
+        act = self.active[side]
+        dof = self.human.dofadr[act]
+        site = self.human.hand_site[side]
+        pref = np.deg2rad(pr.pref_deg[act])
+        pref[2] += self._trunk_turn(q0_deg, target, pr)  # act[2] is trunk_rotation
+        w2 = np.deg2rad(pr.sigma_deg[act]) ** -2.0
+        lo_c, hi_c = np.deg2rad(pr.comfort_lo_deg[act]), np.deg2rad(pr.comfort_hi_deg[act])
+        wc2 = np.deg2rad(pr.comfort_sigma_deg) ** -2.0
+        lo, hi = self.lo[act], self.hi[act]
+        n_task = 6 if target_rot is not None else 3
+        q = np.deg2rad(np.asarray(q0_deg, dtype=float)).copy()
+        err = np.zeros(n_task)
+        a = np.zeros((n_task, len(act)))
+
+        def merit(qa: np.ndarray, task_err: float) -> float:
+            below, above = np.minimum(qa - lo_c, 0.0), np.maximum(qa - hi_c, 0.0)
+            return float(w2 @ (qa - pref) ** 2 + wc2 * (below @ below + above @ above)) + 2e4 * task_err
+
+        it = 0
+        for it in range(1, (max_iter or self.max_iter) + 1):
+            self._fk(q)
+            mujoco.mj_comPos(self.model, self.data)
+            mujoco.mj_jacSite(self.model, self.data, self._jacp, self._jacr, site)
+            err[:3] = target - self.data.site_xpos[site]
+            a[:3] = self._jacp[:, dof]
+            if target_rot is not None:
+                err[3:] = log_so3(target_rot @ self.data.site_xmat[site].reshape(3, 3).T)
+                a[3:] = self._jacr[:, dof]
+            # a linear step cannot be trusted far from the target: cap the task step per iteration
+            scale = min(1.0, 0.15 / max(np.linalg.norm(err[:3]), 1e-12))
+            b = err * scale
+            qa = q[act]
+            below, above = qa < lo_c, qa > hi_c
+            h = w2 + wc2 * (below | above)
+            g = w2 * (qa - pref) + wc2 * (below * (qa - lo_c) + above * (qa - hi_c))
+            free = np.ones(len(act), dtype=bool)
+            fixed = np.zeros(len(act))  # steps of joints frozen at their range
+            for _ in range(4):  # pin joints pushed past their range to it, re-solve the others
+                hinv = np.where(free, 1.0 / h, 0.0)
+                ah = a * hinv
+                kkt = ah @ a.T + 1e-8 * np.eye(n_task)
+                lam = np.linalg.solve(kkt, b - a @ fixed + ah @ g)
+                step = hinv * (a.T @ lam - g) + fixed
+                new = qa + step
+                out = free & ((new < lo) | (new > hi))
+                if not out.any():
+                    break
+                fixed[out] = np.clip(new[out], lo[out], hi[out]) - qa[out]
+                free &= ~out
+            step = np.clip(qa + step, lo, hi) - qa
+            step *= min(1.0, 0.3 / max(np.abs(step).max(), 1e-12))
+            # exact-penalty merit line search: keeps the SQP from cycling in the wrist/forearm null space
+            m0 = merit(qa, np.linalg.norm(err))
+            for _ in range(6):
+                q[act] = qa + step
+                if merit(q[act], self._task_error(q, target, target_rot, site)) < m0:
+                    break
+                step *= 0.5
+            if np.abs(step).max() < 1e-3 and np.linalg.norm(err[:3]) < self.s_pos:
+                break
+        self._fk(q)
+        pos_err = float(np.linalg.norm(self.data.site_xpos[site] - target))
+        rot_err = 0.0
+        if target_rot is not None:
+            rot = self.data.site_xmat[site].reshape(3, 3)
+            rot_err = float(np.rad2deg(np.linalg.norm(log_so3(target_rot @ rot.T))))
+        return IKSolution(np.rad2deg(q), pos_err, rot_err, it)
+
+    def _trunk_turn(self, q0_deg: np.ndarray, point: np.ndarray, pr: IKPrior) -> float:
+        """Trunk rotation [rad] needed so that neck + eyes can face ``point`` comfortably."""
+        self._fk(np.deg2rad(q0_deg))
+        root = self.data.xmat[self.human.root_body].reshape(3, 3)
+        d = root.T @ (point - self.data.site_xpos[self.human.eye_site])
+        az = np.arctan2(d[1], d[0])
+        reach = np.deg2rad(pr.neck_turn_deg + pr.eye_side_deg)
+        return float(az - np.clip(az, -reach, reach))
+
+    def _task_error(self, q: np.ndarray, target: np.ndarray, target_rot: np.ndarray | None,
+                    site: int) -> float:
+        self._fk(q)
+        e = np.linalg.norm(self.data.site_xpos[site] - target)
+        if target_rot is not None:
+            e += np.linalg.norm(log_so3(target_rot @ self.data.site_xmat[site].reshape(3, 3).T))
+        return float(e)
+
+    def look_at(self, angles_deg: np.ndarray, point: np.ndarray, prior: IKPrior | None = None) -> np.ndarray:
+        """Neck angles that point the gaze at ``point`` (3,) [m]; returns a new (22,) array [deg].
+
+        The eyes take up to ``eye_down``/``eye_up``/``eye_side`` degrees of the gaze; the head turns the rest.
+        Yaw and pitch of the gaze are measured in the trunk frame and mapped to the neck's flexion ->
+        lateral-bend -> rotation hinges (lateral bend stays 0).
+        """
+        pr = prior if prior is not None else self.prior
+        q = np.deg2rad(np.asarray(angles_deg, dtype=float)).copy()
+        for _ in range(3):  # the eyes sit in front of the neck pivot: refine twice
+            self._fk(q)
+            eye = self.data.site_xpos[self.human.eye_site]
+            d = self.data.xmat[self.torso].reshape(3, 3).T @ (point - eye)
+            yaw = np.arctan2(d[1], d[0])
+            pitch = np.arctan2(-d[2], np.hypot(d[0], d[1]))  # > 0 looking down
+            side = np.deg2rad(pr.eye_side_deg)
+            yaw_h = yaw - np.clip(yaw, -side, side)
+            pitch_h = pitch - np.clip(pitch, -np.deg2rad(pr.eye_up_deg), np.deg2rad(pr.eye_down_deg))
+            h = np.array([np.cos(pitch_h) * np.cos(yaw_h), np.cos(pitch_h) * np.sin(yaw_h), -np.sin(pitch_h)])
+            neck = np.array([np.arctan2(-h[2], h[0]), 0.0, np.arcsin(np.clip(h[1], -1.0, 1.0))])
+            q[self.neck] = np.clip(neck, self.lo[self.neck], self.hi[self.neck])
+        return np.rad2deg(q)
+
+    def hand_pos(self, angles_deg: np.ndarray, side: str = "right") -> np.ndarray:
+        """(3,) grasp point for (22,) angles [deg], in this model's world frame."""
+        self._fk(np.deg2rad(angles_deg))
+        return self.data.site_xpos[self.human.hand_site[side]].copy()
+
+    def hand_pose(self, angles_deg: np.ndarray, side: str = "right") -> tuple[np.ndarray, np.ndarray]:
+        """((3,) position [m], (3, 3) rotation) of a hand's grasp site for (22,) angles [deg]."""
+        self._fk(np.deg2rad(angles_deg))
+        s = self.human.hand_site[side]
+        return self.data.site_xpos[s].copy(), self.data.site_xmat[s].reshape(3, 3).copy()
+
+    def hand_path(self, angles_deg: np.ndarray, side: str = "right") -> np.ndarray:
+        """(n, 3) grasp-point positions for (n, 22) angles [deg] (forward kinematics per row)."""
+        out = np.empty((len(angles_deg), 3))
+        site = self.human.hand_site[side]
+        qrad = np.deg2rad(angles_deg)
+        for k in range(len(qrad)):
+            self._fk(qrad[k])
+            out[k] = self.data.site_xpos[site]
+        return out

@@ -1,0 +1,132 @@
+"""Synthetic motion capture: the worker's true motion, measured like an inertial (Xsens-like) suit.
+
+Each joint angle is measured with a slowly drifting bias (an Ornstein-Uhlenbeck process: IMU heading and
+soft-tissue drift, a few degrees over minutes) plus white noise; optional dropouts blank whole frames to NaN
+in bursts, as when the suit loses its radio link. The bias state persists across actions, so one stream is
+one continuous recording. The *true* angles (not the measurement) drive the human in the scene, so the hand
+that holds a part moves it where the worker really is.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from ergosim.human.model import HumanModel
+from ergosim.posture import HUMAN_JOINTS
+from ergosim.worker.subjects import Subject
+
+__all__ = ["MocapFrames", "MocapStream", "MotionPlayback"]
+
+
+@dataclass(frozen=True)
+class MocapFrames:
+    """Measured frames. ``t``: (n,) [s]; ``angles``: (n, 22) [deg], NaN rows are dropouts; ``valid``: (n,)."""
+
+    t: np.ndarray
+    angles: np.ndarray
+    valid: np.ndarray
+
+    @property
+    def dropouts(self) -> int:
+        return int((~self.valid).sum())
+
+
+class MocapStream:
+    """Measures trajectories of one subject at ``rate`` [Hz] (default 60 Hz, Xsens-like).
+
+    ``dropout_rate``: probability per frame that a dropout burst starts; bursts last a geometric number of
+    frames with mean ``dropout_frames``. ``bias_tau`` [s]: correlation time of the drifting bias.
+    """
+
+    def __init__(self, subject: Subject, rng: np.random.Generator, rate: float = 60.0,
+                 dropout_rate: float = 0.0, dropout_frames: float = 3.0, bias_tau: float = 30.0,
+                 noise: bool = True) -> None:
+        self.subject = subject
+        self.rng = rng
+        self.rate = float(rate)
+        self.dropout_rate = float(dropout_rate)
+        self.dropout_frames = float(dropout_frames)
+        self.bias_tau = float(bias_tau)
+        self.noise = noise
+        n = len(HUMAN_JOINTS)
+        self.bias = rng.normal(0.0, subject.bias_deg, n) if noise else np.zeros(n)
+        self.dropouts = 0
+        self.frames = 0
+        self._in_dropout = 0
+
+    def measure(self, angles: np.ndarray, t0: float = 0.0) -> MocapFrames:
+        """Measure (n, 22) true angles [deg] sampled at ``rate``; frames are time-stamped from ``t0`` [s]."""
+        angles = np.asarray(angles, dtype=float)
+        n = len(angles)
+        t = t0 + np.arange(n) / self.rate
+        out = angles.copy()
+        if self.noise:
+            # exact discretisation of the OU bias: b_k+1 = a b_k + sqrt(1 - a^2) sigma w_k
+            a = np.exp(-1.0 / (self.rate * self.bias_tau))
+            w = self.rng.normal(0.0, self.subject.bias_deg * np.sqrt(1.0 - a * a), angles.shape)
+            bias = np.empty_like(angles)
+            b = self.bias
+            for k in range(n):  # sequential by nature; 22 floats per frame
+                b = a * b + w[k]
+                bias[k] = b
+            self.bias = b
+            out += bias + self.rng.normal(0.0, self.subject.noise_deg, angles.shape)
+        valid = np.ones(n, dtype=bool)
+        if self.dropout_rate > 0.0:
+            starts = self.rng.random(n) < self.dropout_rate
+            lengths = self.rng.geometric(1.0 / self.dropout_frames, n)
+            left = self._in_dropout
+            for k in range(n):
+                if left == 0 and starts[k]:
+                    left = lengths[k]
+                if left > 0:
+                    valid[k] = False
+                    left -= 1
+            self._in_dropout = left
+            out[~valid] = np.nan
+        self.frames += n
+        self.dropouts += int((~valid).sum())
+        return MocapFrames(t, out, valid)
+
+
+class MotionPlayback:
+    """Drives the human in a scene from a trajectory of true angles (kinematically, never by forces).
+
+    ``apply(data, t)`` writes the linearly interpolated angles at time ``t`` [s] (and the matching joint
+    velocities) into ``data.qpos``/``qvel``; with ``kinematics=True`` it also runs ``mj_kinematics``, as
+    mink's ``Configuration.update`` does. Call it before each physics step so a held part follows the hand.
+    """
+
+    def __init__(self, model: mujoco.MjModel, human: HumanModel | None = None) -> None:
+        self.model = model
+        self.human = human if human is not None else HumanModel(model)
+        self._t: np.ndarray | None = None
+        self._q: np.ndarray | None = None
+        self._qd: np.ndarray | None = None
+
+    def load(self, t: np.ndarray, angles_deg: np.ndarray) -> None:
+        """Set the trajectory: (n,) times [s] and (n, 22) true angles [deg]."""
+        self._t = np.asarray(t, dtype=float)
+        self._q = np.deg2rad(np.asarray(angles_deg, dtype=float))
+        dt = np.diff(self._t)[:, None]
+        rates = np.diff(self._q, axis=0) / np.where(dt > 0, dt, 1.0)
+        self._qd = np.vstack([rates, np.zeros((1, self._q.shape[1]))])
+
+    def apply(self, data: mujoco.MjData, t: float, kinematics: bool = False) -> None:
+        if self._t is None:
+            return
+        k = int(np.clip(np.searchsorted(self._t, t, side="right") - 1, 0, len(self._t) - 1))
+        if k + 1 < len(self._t):
+            f = (t - self._t[k]) / max(self._t[k + 1] - self._t[k], 1e-12)
+            f = min(max(f, 0.0), 1.0)
+            q = self._q[k] + f * (self._q[k + 1] - self._q[k])
+            qd = self._qd[k]
+        else:
+            q, qd = self._q[-1], np.zeros_like(self._q[-1])
+        data.qpos[self.human.qadr] = q
+        data.qvel[self.human.dofadr] = qd
+        if kinematics:
+            mujoco.mj_kinematics(self.model, data)

@@ -1,0 +1,116 @@
+"""Seeded synthetic subjects: anthropometry, speed, posture style, sensor noise and KWear parameters.
+
+Population figures: statures are normal per sex, 1.77 +- 0.07 m (men) and 1.64 +- 0.065 m (women), close to
+European adult surveys (e.g. DINED / CAESAR); 2 of 12 subjects are women in expectation, as in the paper's
+§7.2 cohort. Everything is drawn from the ``np.random.Generator`` passed in, so the same seed gives the same
+subject bit for bit.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+import mujoco
+import numpy as np
+
+from ergosim.errors import ConfigError
+from ergosim.human.anthropometry import SEGMENT_SCALES
+from ergosim.human.model import human_spec
+from ergosim.posture import HUMAN_JOINTS
+from ergosim.worker.ik import IKPrior, default_prior
+
+__all__ = ["Subject", "make_subject", "make_subjects", "rest_angles"]
+
+_IDX = {n: i for i, n in enumerate(HUMAN_JOINTS)}
+
+
+@dataclass(frozen=True)
+class Subject:
+    """One synthetic worker.
+
+    stature [m]; ``scale``: per-segment multipliers (name, factor) pairs; ``speed``: movement-speed factor
+    (> 1 faster); ``trunk_use``: posture style, > 1 stoops/twists sooner, < 1 reaches with the arm;
+    ``elbow_comfort_deg``: how straight an arm may get before the trunk helps; ``eye_down_deg``: downward
+    gaze taken by the eyes before the neck flexes; ``noise_deg``: white sensor noise; ``bias_deg``: drift of
+    the sensor bias; ``variability_deg``: trial-to-trial variation of the preferred posture;
+    ``kwear``: overrides of the KWear parameters (``KWearParams`` field -> value; empty = paper defaults).
+    """
+
+    name: str
+    stature: float = 1.75
+    scale: tuple[tuple[str, float], ...] = ()
+    speed: float = 1.0
+    trunk_use: float = 1.0
+    elbow_comfort_deg: float = 25.0
+    eye_down_deg: float = 20.0
+    noise_deg: float = 1.0
+    bias_deg: float = 1.5
+    variability_deg: float = 3.0
+    handedness: str = "right"
+    kwear: tuple[tuple[str, float], ...] = field(default=())
+
+    @property
+    def scale_map(self) -> dict[str, float]:
+        return dict(self.scale)
+
+    def spec(self, keyframe: str | None = "home") -> mujoco.MjSpec:
+        """The subject's human body (attach it into a scene, or compile it on its own)."""
+        return human_spec(self.stature, self.scale_map, keyframe=keyframe)
+
+    def prior(self) -> IKPrior:
+        """The IK posture prior of this subject's style."""
+        return replace(default_prior(self.trunk_use, self.elbow_comfort_deg), eye_down_deg=self.eye_down_deg)
+
+    def kwear_params(self) -> Any:
+        """``ergosim.ergonomics.kwear.KWearParams`` with this subject's overrides."""
+        from ergosim.ergonomics.kwear import KWearParams  # noqa: PLC0415 - lazy: ergonomics is optional here
+
+        try:
+            return KWearParams(**dict(self.kwear))
+        except TypeError as err:
+            raise ConfigError(f"bad KWear override for subject {self.name}: {err}",
+                              where="Subject.kwear") from err
+
+
+def rest_angles(subject: Subject | None = None) -> np.ndarray:
+    """(22,) rest posture [deg]: upright, arms hanging relaxed, elbows slightly flexed, gaze a bit down."""
+    q = np.zeros(len(HUMAN_JOINTS))
+    q[_IDX["elbow_flexion"]] = q[_IDX["left_elbow_flexion"]] = 15.0
+    q[_IDX["shoulder_flexion"]] = q[_IDX["left_shoulder_flexion"]] = 5.0
+    q[_IDX["neck_flexion"]] = 8.0
+    return q
+
+
+def make_subject(rng: np.random.Generator, name: str = "S01", kwear: Mapping[str, float] | None = None,
+                 **overrides: Any) -> Subject:
+    """Draw one subject from ``rng``; keyword ``overrides`` fix any field (e.g. ``stature=1.62``)."""
+    female = rng.random() < 2.0 / 12.0
+    stature = rng.normal(1.64, 0.065) if female else rng.normal(1.77, 0.07)
+    scale = tuple((k, float(np.clip(rng.normal(1.0, 0.025), 0.92, 1.08))) for k in SEGMENT_SCALES)
+    fields = dict(
+        name=name,
+        stature=float(np.clip(stature, 1.50, 2.00)),
+        scale=scale,
+        speed=float(np.clip(rng.normal(1.0, 0.12), 0.75, 1.3)),
+        trunk_use=float(np.clip(rng.lognormal(0.0, 0.2), 0.65, 1.6)),
+        elbow_comfort_deg=float(np.clip(rng.normal(25.0, 5.0), 12.0, 40.0)),
+        eye_down_deg=float(np.clip(rng.normal(20.0, 4.0), 10.0, 30.0)),
+        noise_deg=float(np.clip(rng.normal(1.0, 0.3), 0.3, 2.0)),
+        bias_deg=float(np.clip(rng.normal(1.5, 0.5), 0.3, 3.0)),
+        variability_deg=float(np.clip(rng.normal(3.0, 0.8), 1.0, 6.0)),
+        kwear=tuple(sorted((kwear or {}).items())),
+    )
+    unknown = set(overrides) - set(fields) - {"handedness"}
+    if unknown:
+        raise ConfigError(f"unknown subject field(s) {sorted(unknown)}", where="make_subject")
+    fields.update(overrides)
+    if "scale" in overrides and isinstance(overrides["scale"], Mapping):
+        fields["scale"] = tuple(sorted(overrides["scale"].items()))
+    return Subject(**fields)
+
+
+def make_subjects(n: int, seed: int, kwear: Mapping[str, float] | None = None) -> list[Subject]:
+    """``n`` subjects S01..Sn; subject i depends only on (seed, i), so adding subjects keeps the others."""
+    return [make_subject(np.random.default_rng([seed, i]), f"S{i + 1:02d}", kwear=kwear) for i in range(n)]
