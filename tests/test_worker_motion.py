@@ -1,0 +1,102 @@
+"""Worker motion: IK reaches where the part lies, priors make risk follow geometry, timing, determinism."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+from worker_scene import PointScene
+
+from ergosim.human import HumanModel
+from ergosim.posture import HUMAN_JOINTS
+from ergosim.worker import Subject, Worker, fitts_duration, interpolate_keyframes, make_subject, min_jerk
+
+IDX = {n: i for i, n in enumerate(HUMAN_JOINTS)}
+GEOM = SimpleNamespace(action="a", part="part", kind="insert", target="target")
+
+
+@pytest.fixture(scope="module")
+def worker():
+    return Worker(Subject("T", variability_deg=0.0))
+
+
+def _plan(worker, part_pos, target_pos=(0.45, 0.0, 0.95), seed=0, **kw):
+    scene = PointScene(worker.subject, part_pos, target_pos, **kw)
+    return scene, worker.plan(scene, GEOM, np.random.default_rng(seed))
+
+
+@pytest.mark.parametrize(
+    "part_pos",
+    [(0.35, -0.15, 0.95), (0.7, 0.0, 0.95), (0.25, -0.5, 1.75), (0.4, 0.55, 1.0), (-0.1, -0.6, 1.2)],
+)
+def test_hand_reaches_the_part_in_the_scene_within_2cm(worker, part_pos):
+    scene, motion = _plan(worker, part_pos, worker_pos=(0.2, 0.3, 0.0), yaw=0.4)
+    human = HumanModel(scene.model)
+    k = int(np.searchsorted(motion.t, motion.t_grasp)) - 1  # last frame of the grasp phase
+    human.set_angles(scene.data, motion.angles[k])
+    part = scene.body_pose("part")[0]
+    assert np.linalg.norm(human.hand_pos(scene.data) - part) < 0.02
+    assert np.linalg.norm(motion.hand_pos[k] - part) < 0.02
+    # and the part is carried to the target
+    k = int(np.searchsorted(motion.t, motion.t_release)) - 1
+    human.set_angles(scene.data, motion.angles[k])
+    assert np.linalg.norm(human.hand_pos(scene.data) - scene.site_pose("target")[0]) < 0.02
+
+
+def test_motion_starts_and_ends_at_rest_and_is_smooth(worker):
+    _, motion = _plan(worker, (0.5, -0.2, 1.0))
+    np.testing.assert_allclose(motion.angles[0], worker.rest, atol=1e-9)
+    np.testing.assert_allclose(motion.angles[-1], worker.rest, atol=1e-9)
+    assert np.all(np.diff(motion.t) > 0) and motion.t[1] == pytest.approx(1 / 60)
+    speed = np.abs(np.diff(motion.angles, axis=0)).max() * 60.0
+    assert speed < 400.0  # deg/s: no jumps between frames
+    names = [p.name for p in motion.phases]
+    assert names == ["reach", "grasp", "carry", "insert", "release", "return"]
+    assert 0 < motion.t_grasp < motion.t_release < motion.duration
+
+
+def test_higher_shelf_raises_the_arm(worker):
+    _, low = _plan(worker, (0.3, -0.45, 1.25))
+    _, high = _plan(worker, (0.3, -0.45, 1.80))
+
+    def peak_elevation(m):
+        f, a = np.deg2rad(m.angles[:, IDX["shoulder_flexion"]]), np.deg2rad(m.angles[:, IDX["shoulder_abduction"]])
+        return np.rad2deg(np.arccos(np.cos(f) * np.cos(a))).max()  # humerus angle from the vertical
+
+    assert peak_elevation(high) > peak_elevation(low) + 25.0
+
+
+def test_farther_piece_bends_the_trunk(worker):
+    _, near = _plan(worker, (0.4, -0.2, 0.95))
+    _, far = _plan(worker, (0.85, -0.2, 0.95))
+    assert near.angles[:, IDX["trunk_flexion"]].max() < 5.0
+    assert far.angles[:, IDX["trunk_flexion"]].max() > 20.0
+
+
+def test_target_behind_twists_the_trunk_and_near_low_flexes_the_neck(worker):
+    _, ledge = _plan(worker, (0.45, 0.0, 0.95), target_pos=(-0.1, -0.6, 1.2))
+    assert ledge.angles[:, IDX["trunk_rotation"]].min() < -30.0
+    _, close = _plan(worker, (0.3, -0.1, 0.9), target_pos=(0.35, 0.0, 0.9))
+    assert close.angles[:, IDX["neck_flexion"]].max() > 25.0
+
+
+def test_same_seed_same_motion(worker):
+    subject = make_subject(np.random.default_rng(5))
+    w = Worker(subject)
+    a = w.plan(PointScene(subject, (0.5, -0.3, 1.1), (0.4, 0.0, 0.95)), GEOM, np.random.default_rng(9))
+    b = w.plan(PointScene(subject, (0.5, -0.3, 1.1), (0.4, 0.0, 0.95)), GEOM, np.random.default_rng(9))
+    c = w.plan(PointScene(subject, (0.5, -0.3, 1.1), (0.4, 0.0, 0.95)), GEOM, np.random.default_rng(10))
+    assert np.array_equal(a.angles, b.angles) and np.array_equal(a.t, b.t)
+    assert not np.array_equal(a.angles, c.angles)
+
+
+def test_fitts_and_min_jerk():
+    assert fitts_duration(0.6) > fitts_duration(0.2) > fitts_duration(0.02)
+    assert fitts_duration(0.5, speed=2.0) == pytest.approx(fitts_duration(0.5) / 2)
+    tau = np.linspace(0, 1, 101)
+    s = min_jerk(tau)
+    assert s[0] == 0 and s[-1] == pytest.approx(1) and s[50] == pytest.approx(0.5)
+    assert np.all(np.diff(s) >= 0)
+    v = interpolate_keyframes(np.array([0.0, 1.0, 2.0]), np.array([[0.0], [10.0], [10.0]]), np.array([0.5, 1.5]))
+    np.testing.assert_allclose(v[:, 0], [5.0, 10.0])
