@@ -61,7 +61,8 @@ def test_higher_shelf_raises_the_arm(worker):
     _, high = _plan(worker, (0.3, -0.45, 1.80))
 
     def peak_elevation(m):
-        f, a = np.deg2rad(m.angles[:, IDX["shoulder_flexion"]]), np.deg2rad(m.angles[:, IDX["shoulder_abduction"]])
+        f = np.deg2rad(m.angles[:, IDX["shoulder_flexion"]])
+        a = np.deg2rad(m.angles[:, IDX["shoulder_abduction"]])
         return np.rad2deg(np.arccos(np.cos(f) * np.cos(a))).max()  # humerus angle from the vertical
 
     assert peak_elevation(high) > peak_elevation(low) + 25.0
@@ -98,5 +99,6 @@ def test_fitts_and_min_jerk():
     s = min_jerk(tau)
     assert s[0] == 0 and s[-1] == pytest.approx(1) and s[50] == pytest.approx(0.5)
     assert np.all(np.diff(s) >= 0)
-    v = interpolate_keyframes(np.array([0.0, 1.0, 2.0]), np.array([[0.0], [10.0], [10.0]]), np.array([0.5, 1.5]))
+    keys = np.array([[0.0], [10.0], [10.0]])
+    v = interpolate_keyframes(np.array([0.0, 1.0, 2.0]), keys, np.array([0.5, 1.5]))
     np.testing.assert_allclose(v[:, 0], [5.0, 10.0])

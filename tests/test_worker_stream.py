@@ -76,7 +76,7 @@ def test_playback_moves_the_hand_along_the_motion(planned):
     for k in (0, len(motion.t) // 3, len(motion.t) // 2, len(motion.t) - 1):
         play.apply(scene.data, motion.t[k], kinematics=True)
         np.testing.assert_allclose(scene.data.site_xpos[site], motion.hand_pos[k], atol=1e-9)
-    # between frames, physics steps keep the human where the playback puts it (gravity-compensated, no contacts)
+    # between frames, physics steps keep the human where the playback put it (gravity-compensated)
     play.apply(scene.data, 1.0)
     mujoco.mj_step(scene.model, scene.data)
     assert np.all(np.isfinite(scene.data.qpos))
