@@ -1,0 +1,68 @@
+"""Rotation matrices from and to intrinsic Tait-Bryan (Euler) angles, vectorised over frames.
+
+An order such as ``"ZXY"`` means ``R = Rz(a) @ Rx(b) @ Ry(c)``: rotate about z, then about the new x, then
+about the newest y (intrinsic), which is how BVH channel lists and the human model's hinge chains compose.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["axis_rotation", "euler_to_matrix", "matrix_to_euler", "alternate_euler"]
+
+_AXIS = {"X": 0, "Y": 1, "Z": 2}
+_SINGULAR = 1e-9  # cos of the middle angle below which the first and last axes coincide (gimbal lock)
+
+
+def axis_rotation(axis: int, angle: np.ndarray) -> np.ndarray:
+    """(..., 3, 3) rotation by ``angle`` [rad] (shape (...)) about the coordinate axis 0, 1 or 2."""
+    angle = np.asarray(angle, dtype=float)
+    c, s = np.cos(angle), np.sin(angle)
+    j, k = (axis + 1) % 3, (axis + 2) % 3
+    r = np.zeros(angle.shape + (3, 3))
+    r[..., axis, axis] = 1.0
+    r[..., j, j] = c
+    r[..., k, k] = c
+    r[..., k, j] = s
+    r[..., j, k] = -s
+    return r
+
+
+def euler_to_matrix(angles: np.ndarray, order: str) -> np.ndarray:
+    """(..., 3, 3) from (..., len(order)) angles [rad]; ``order`` of up to 3 letters (empty -> identity)."""
+    angles = np.asarray(angles, dtype=float)
+    r = np.broadcast_to(np.eye(3), angles.shape[:-1] + (3, 3)).copy()
+    for k, ax in enumerate(order.upper()):
+        r = r @ axis_rotation(_AXIS[ax], angles[..., k])
+    return r
+
+
+def matrix_to_euler(r: np.ndarray, order: str, first_hint: np.ndarray | float = 0.0) -> np.ndarray:
+    """(..., 3) angles [rad] with ``euler_to_matrix(angles, order) == r``, middle angle in [-pi/2, pi/2].
+
+    ``order``: three distinct axes. At gimbal lock (middle angle +-90 deg) only a sum or difference of the
+    first and last angles is defined; the first angle is then set to ``first_hint`` [rad] (broadcast to
+    the frames) and the last one takes the rest, so the result still reproduces ``r`` exactly.
+    """
+    i, j, k = (_AXIS[a] for a in order.upper())
+    if len({i, j, k}) != 3:
+        raise ValueError(f"order {order!r} must name three distinct axes")
+    s = 1.0 if (j - i) % 3 == 1 else -1.0  # +1 for cyclic orders (XYZ, YZX, ZXY)
+    r = np.asarray(r, dtype=float)
+    cos_b = np.hypot(r[..., i, i], r[..., i, j])
+    b = np.arctan2(s * r[..., i, k], cos_b)
+    a = np.arctan2(-s * r[..., j, k], r[..., k, k])
+    c = np.arctan2(-s * r[..., i, j], r[..., i, i])
+    lock = cos_b < _SINGULAR
+    if np.any(lock):
+        a = np.where(lock, np.broadcast_to(first_hint, a.shape), a)
+        m = np.swapaxes(axis_rotation(i, a), -1, -2) @ r  # = R_j(b) R_k(c)
+        c = np.where(lock, np.arctan2(s * m[..., j, i], m[..., j, j]), c)
+    return np.stack([a, b, c], axis=-1)
+
+
+def alternate_euler(angles: np.ndarray) -> np.ndarray:
+    """The other Tait-Bryan solution of the same rotation: (a + pi, pi - b, c + pi), wrapped to (-pi, pi]."""
+    a, b, c = np.moveaxis(np.asarray(angles, dtype=float), -1, 0)
+    alt = np.stack([a + np.pi, np.pi - b, c + np.pi], axis=-1)
+    return np.pi - np.mod(np.pi - alt, 2.0 * np.pi)

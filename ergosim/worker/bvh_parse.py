@@ -1,0 +1,251 @@
+"""BVH (Biovision Hierarchy) files: the parser.
+
+Supported subset: one ``ROOT``; ``JOINT`` and ``End Site`` to any depth; ``OFFSET x y z``; ``CHANNELS n``
+with any mix and order of ``X/Y/Zposition`` and ``X/Y/Zrotation``; ``MOTION`` with ``Frames:`` and
+``Frame Time:``, then one line of numbers per frame. Tokens may be spread over lines in any way inside
+``HIERARCHY``. Joint names are single tokens. Rotation channels compose intrinsically in the listed order
+(``Zrotation Xrotation Yrotation`` -> ``R = Rz @ Rx @ Ry``), the usual BVH reading: a vector in the joint's
+frame maps to its parent's frame as ``v_parent = offset + R v_joint``.
+
+Every problem raises :class:`~ergosim.errors.RecordingError` with ``where="<file>:<line>"``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ergosim.errors import RecordingError
+
+__all__ = ["BvhJoint", "BvhData", "parse_bvh", "parse_bvh_text"]
+
+_AXIS = {"x": 0, "y": 1, "z": 2}
+_CHANNEL_KINDS = ("position", "rotation")
+
+
+@dataclass(frozen=True)
+class BvhJoint:
+    """One joint. ``offset`` [file units] is in the parent's frame; ``end_site``: End Site offset or None."""
+
+    name: str
+    parent: int  # index in BvhData.joints, -1 for the root
+    offset: tuple[float, float, float]
+    channels: tuple[str, ...]  # as written, e.g. ("Zrotation", "Xrotation", "Yrotation")
+    first_channel: int  # column of channels[0] in BvhData.motion
+    end_site: tuple[float, float, float] | None
+    line: int
+
+    @property
+    def rotation_order(self) -> str:
+        """Axes of the rotation channels in file order, e.g. ``"ZXY"``."""
+        return "".join(c[0].upper() for c in self.channels if c[1:].lower() == "rotation")
+
+    @property
+    def rotation_columns(self) -> list[int]:
+        return [self.first_channel + i for i, c in enumerate(self.channels) if c[1:].lower() == "rotation"]
+
+
+@dataclass(frozen=True, eq=False)
+class BvhData:
+    """A parsed file: joints in depth-first order, ``motion`` (n_frames, n_channels), frame time [s]."""
+
+    joints: tuple[BvhJoint, ...]
+    frame_time: float
+    motion: np.ndarray
+    source: str
+
+    @property
+    def n_frames(self) -> int:
+        return int(self.motion.shape[0])
+
+    @property
+    def rate_hz(self) -> float:
+        """1 / frame time [Hz], snapped to a whole number within 0.02 % (files round the frame time)."""
+        rate = 1.0 / self.frame_time
+        return float(round(rate)) if abs(rate - round(rate)) <= 2e-4 * rate else rate
+
+    def index(self, name: str) -> int:
+        for i, j in enumerate(self.joints):
+            if j.name == name:
+                return i
+        raise KeyError(name)
+
+    def children(self, i: int) -> list[int]:
+        return [k for k, j in enumerate(self.joints) if j.parent == i]
+
+
+class _Tokens:
+    """Whitespace tokens of the HIERARCHY lines, each with its 1-based line number."""
+
+    def __init__(self, lines: list[str], source: str) -> None:
+        self.items = [(tok, n + 1) for n, line in enumerate(lines) for tok in line.split()]
+        self.pos = 0
+        self.source = source
+        self.last_line = max(len(lines), 1)
+
+    def error(self, what: str, line: int | None = None) -> RecordingError:
+        return RecordingError(what, where=f"{self.source}:{line or self.last_line}")
+
+    def next(self, expected: str) -> tuple[str, int]:
+        if self.pos >= len(self.items):
+            raise self.error(f"file ends inside HIERARCHY, expected {expected}")
+        self.pos += 1
+        return self.items[self.pos - 1]
+
+    def peek(self) -> str | None:
+        return self.items[self.pos][0] if self.pos < len(self.items) else None
+
+    def keyword(self, word: str) -> int:
+        tok, line = self.next(f"'{word}'")
+        if tok.upper() != word.upper():
+            raise self.error(f"expected '{word}', found {tok!r}", line)
+        return line
+
+    def number(self, what: str) -> float:
+        tok, line = self.next(what)
+        try:
+            x = float(tok)
+        except ValueError:
+            raise self.error(f"{what} must be a number, found {tok!r}", line) from None
+        if not np.isfinite(x):
+            raise self.error(f"{what} must be finite, found {tok!r}", line)
+        return x
+
+    def offset(self) -> tuple[float, float, float]:
+        self.keyword("OFFSET")
+        return (self.number("OFFSET x"), self.number("OFFSET y"), self.number("OFFSET z"))
+
+
+def _parse_joint(tk: _Tokens, name: str, line: int, parent: int, joints: list[BvhJoint], n_ch: int) -> int:
+    """Parse ``{ OFFSET .. CHANNELS .. children }`` of one joint; returns the channel count so far."""
+    tk.keyword("{")
+    offset = tk.offset()
+    channels: tuple[str, ...] = ()
+    if (tk.peek() or "").upper() == "CHANNELS":
+        tk.next("CHANNELS")
+        tok, cline = tk.next("the channel count")
+        if not tok.isdigit():
+            raise tk.error(f"CHANNELS count must be a non-negative integer, found {tok!r}", cline)
+        names = []
+        for _ in range(int(tok)):
+            ch, chline = tk.next(f"{tok} channel names")
+            if ch[:1].lower() not in _AXIS or ch[1:].lower() not in _CHANNEL_KINDS:
+                raise tk.error(f"unknown channel {ch!r} of joint {name!r}; expected X/Y/Z followed by "
+                               "'position' or 'rotation'", chline)
+            names.append(ch)
+        channels = tuple(names)
+    me = len(joints)
+    joints.append(BvhJoint(name, parent, offset, channels, n_ch, None, line))
+    n_ch += len(channels)
+    while True:
+        tok, tline = tk.next("JOINT, End Site or '}'")
+        if tok.upper() == "JOINT":
+            child, cline = tk.next("a joint name")
+            n_ch = _parse_joint(tk, child, cline, me, joints, n_ch)
+        elif tok.upper() == "END":
+            tk.keyword("Site")
+            tk.keyword("{")
+            site = tk.offset()
+            tk.keyword("}")
+            j = joints[me]
+            joints[me] = BvhJoint(j.name, j.parent, j.offset, j.channels, j.first_channel, site, j.line)
+        elif tok == "}":
+            return n_ch
+        else:
+            raise tk.error(f"expected JOINT, End Site or '}}' in joint {name!r}, found {tok!r}", tline)
+
+
+def _header_value(lines: list[str], n: int, label: str, source: str) -> tuple[str, int]:
+    """The value after ``label`` (e.g. 'Frames:') on the next non-empty line at or after index ``n``."""
+    while n < len(lines) and not lines[n].strip():
+        n += 1
+    if n >= len(lines):
+        raise RecordingError(f"file ends in MOTION, expected '{label}'", where=f"{source}:{len(lines)}")
+    text = lines[n].strip()
+    if not text.lower().startswith(label.lower()):
+        raise RecordingError(f"expected '{label} <value>', found {text[:40]!r}", where=f"{source}:{n + 1}")
+    return text[len(label):].strip(), n
+
+
+def _parse_motion(lines: list[str], start: int, n_channels: int, source: str) -> tuple[float, np.ndarray]:
+    value, n = _header_value(lines, start, "Frames:", source)
+    if not value.isdigit() or int(value) < 1:
+        raise RecordingError(f"Frames must be a positive integer, found {value!r}", where=f"{source}:{n + 1}")
+    n_frames = int(value)
+    value, n = _header_value(lines, n + 1, "Frame Time:", source)
+    try:
+        frame_time = float(value)
+    except ValueError:
+        frame_time = float("nan")
+    if not (np.isfinite(frame_time) and frame_time > 0):
+        raise RecordingError(f"Frame Time must be a positive number of seconds, found {value!r}",
+                             where=f"{source}:{n + 1}")
+    rows: list[list[str]] = []
+    row_lines: list[int] = []
+    for k in range(n + 1, len(lines)):
+        toks = lines[k].split()
+        if not toks:
+            continue
+        if len(rows) == n_frames:
+            raise RecordingError(f"more frame lines than Frames: {n_frames}", where=f"{source}:{k + 1}")
+        if len(toks) != n_channels:
+            raise RecordingError(f"frame {len(rows) + 1} has {len(toks)} values, expected {n_channels} "
+                                 "(one per channel)", where=f"{source}:{k + 1}")
+        rows.append(toks)
+        row_lines.append(k + 1)
+    if len(rows) < n_frames:
+        raise RecordingError(f"file is truncated: Frames: {n_frames} but only {len(rows)} frame lines",
+                             where=f"{source}:{len(lines)}")
+    try:
+        motion = np.array(rows, dtype=float).reshape(n_frames, n_channels)
+        bad = ~np.isfinite(motion)
+    except ValueError:
+        bad = None
+    if bad is None or bad.any():
+        for toks, line in zip(rows, row_lines, strict=True):
+            for col, tok in enumerate(toks):
+                try:
+                    ok = np.isfinite(float(tok))
+                except ValueError:
+                    ok = False
+                if not ok:
+                    raise RecordingError(f"value {tok!r} in column {col + 1} is not a finite number",
+                                         where=f"{source}:{line}")
+    return frame_time, motion
+
+
+def parse_bvh_text(text: str, source: str = "<string>") -> BvhData:
+    """Parse BVH ``text``; ``source`` names it in error messages."""
+    lines = text.splitlines()
+    motion_at = next((k for k, line in enumerate(lines) if line.split()[:1] == ["MOTION"]), None)
+    tk = _Tokens(lines if motion_at is None else lines[:motion_at], source)
+    tk.keyword("HIERARCHY")
+    tk.keyword("ROOT")
+    name, line = tk.next("the root joint's name")
+    joints: list[BvhJoint] = []
+    n_channels = _parse_joint(tk, name, line, -1, joints, 0)
+    if tk.peek() is not None:
+        tok, line = tk.next("")
+        what = "only one ROOT is supported" if tok.upper() == "ROOT" else f"unexpected {tok!r} after the root"
+        raise tk.error(what, line)
+    if motion_at is None:
+        raise RecordingError("no MOTION section after the HIERARCHY", where=f"{source}:{len(lines)}")
+    names = [j.name for j in joints]
+    dup = next((n for n in names if names.count(n) > 1), None)
+    if dup is not None:
+        raise RecordingError(f"joint name {dup!r} is used twice",
+                             where=f"{source}:{joints[names.index(dup)].line}")
+    frame_time, motion = _parse_motion(lines, motion_at + 1, n_channels, source)
+    motion.setflags(write=False)
+    return BvhData(tuple(joints), frame_time, motion, source)
+
+
+def parse_bvh(path: str | Path) -> BvhData:
+    """Read and parse the BVH file at ``path``."""
+    try:
+        text = Path(path).read_text(encoding="utf-8-sig")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise RecordingError(f"cannot read BVH file: {exc}", where=str(path)) from None
+    return parse_bvh_text(text, str(path))
