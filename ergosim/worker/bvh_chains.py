@@ -23,7 +23,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ergosim.human.joints import joint_spec
-from ergosim.worker.bvh_euler import alternate_euler, euler_to_matrix, matrix_to_euler
+from ergosim.worker.bvh_euler import SINGULAR_COS, alternate_euler, euler_to_matrix, matrix_to_euler
 
 __all__ = ["Chain", "CHAINS", "MIRROR", "compose", "decompose", "mirror"]
 
@@ -95,13 +95,16 @@ def decompose(chain: Chain, r: np.ndarray, prefix: str = "") -> dict[str, np.nda
     """Canonical angles [deg], name -> (n,), of the (n, 3, 3) relative rotations ``r`` of ``chain``."""
     r = mirror(r) if prefix else np.asarray(r, dtype=float)
     signs = np.asarray(chain.signs, dtype=float)
-    euler = matrix_to_euler(r, chain.order)
-    # Gimbal lock: hold the first angle of the last regular frame (continuity in a recording).
-    lock = np.abs(np.cos(euler[:, 1])) < 1e-9
-    if lock.any():
-        euler = matrix_to_euler(r, chain.order, _forward_fill(euler[:, 0], ~lock))
     ranges = _ranges(chain)
+    euler = matrix_to_euler(r, chain.order)
     one, viol1 = _wrap(np.rad2deg(euler * signs), ranges)
     two, viol2 = _wrap(np.rad2deg(alternate_euler(euler) * signs), ranges)
     best = np.where((viol2 < viol1 - 1e-9)[:, None], two, one)
+    lock = np.abs(np.cos(euler[:, 1])) < SINGULAR_COS
+    if lock.any():
+        # Gimbal lock: hold the first angle of the last regular frame (continuity in a recording); the
+        # other solution would only move it by 180 deg, so it is not considered.
+        hint = np.deg2rad(_forward_fill(best[:, 0], ~lock)) * signs[0]
+        held, _ = _wrap(np.rad2deg(matrix_to_euler(r, chain.order, hint) * signs), ranges)
+        best = np.where(lock[:, None], held, best)
     return {prefix + n: best[:, k] for k, n in enumerate(chain.names) if n is not None}

@@ -8,10 +8,12 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["axis_rotation", "euler_to_matrix", "matrix_to_euler", "alternate_euler"]
+__all__ = ["SINGULAR_COS", "axis_rotation", "euler_to_matrix", "matrix_to_euler", "alternate_euler"]
 
 _AXIS = {"X": 0, "Y": 1, "Z": 2}
-_SINGULAR = 1e-9  # cos of the middle angle below which the first and last axes coincide (gimbal lock)
+# cos of the middle angle below which the first and last axes are taken to coincide (gimbal lock): within
+# 0.0006 deg of +-90 deg, where 1e-6 deg of noise in a file would already move the outer angles by 0.1 deg.
+SINGULAR_COS = 1e-5
 
 
 def axis_rotation(axis: int, angle: np.ndarray) -> np.ndarray:
@@ -53,7 +55,7 @@ def matrix_to_euler(r: np.ndarray, order: str, first_hint: np.ndarray | float = 
     b = np.arctan2(s * r[..., i, k], cos_b)
     a = np.arctan2(-s * r[..., j, k], r[..., k, k])
     c = np.arctan2(-s * r[..., i, j], r[..., i, i])
-    lock = cos_b < _SINGULAR
+    lock = cos_b < SINGULAR_COS
     if np.any(lock):
         a = np.where(lock, np.broadcast_to(first_hint, a.shape), a)
         m = np.swapaxes(axis_rotation(i, a), -1, -2) @ r  # = R_j(b) R_k(c)

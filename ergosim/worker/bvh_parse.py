@@ -233,10 +233,9 @@ def parse_bvh_text(text: str, source: str = "<string>") -> BvhData:
     if motion_at is None:
         raise RecordingError("no MOTION section after the HIERARCHY", where=f"{source}:{len(lines)}")
     names = [j.name for j in joints]
-    dup = next((n for n in names if names.count(n) > 1), None)
+    dup = next((k for k, n in enumerate(names) if n in names[:k]), None)
     if dup is not None:
-        raise RecordingError(f"joint name {dup!r} is used twice",
-                             where=f"{source}:{joints[names.index(dup)].line}")
+        raise RecordingError(f"joint name {names[dup]!r} is used twice", where=f"{source}:{joints[dup].line}")
     frame_time, motion = _parse_motion(lines, motion_at + 1, n_channels, source)
     motion.setflags(write=False)
     return BvhData(tuple(joints), frame_time, motion, source)
