@@ -239,9 +239,11 @@ def test_hand_written_n_pose_gives_known_angles():
     assert rec.n_frames == len(N_POSE_FRAMES) and rec.rate_hz == 30.0
     assert set(rec.angles) == set(HUMAN_JOINTS)
     _assert_frames(rec, N_POSE_FRAMES, tol=1e-6)
-    assert rec.mapping == {"pelvis": "Hips", "thorax": "Spine", "head": "Head",
-                           "right_upper_arm": "RightArm", "right_forearm": "RightForeArm", "right_hand": "RightHand",
-                           "left_upper_arm": "LeftArm", "left_forearm": "LeftForeArm", "left_hand": "LeftHand"}
+    assert rec.mapping == {
+        "pelvis": "Hips", "thorax": "Spine", "head": "Head",
+        "right_upper_arm": "RightArm", "right_forearm": "RightForeArm", "right_hand": "RightHand",
+        "left_upper_arm": "LeftArm", "left_forearm": "LeftForeArm", "left_hand": "LeftHand",
+    }
 
 
 def test_pelvis_trunk_reference_excludes_hip_flexion():
