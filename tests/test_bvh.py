@@ -267,6 +267,20 @@ def test_xsens_t_pose_z_up_with_clavicles():
     assert rec.mapping["right_upper_arm"] == "RightUpperArm"
 
 
+def test_daz_friendly_names():
+    names = {"Hips": "hip", "Spine": "chest", "Head": "head", "RightArm": "rShoulder",
+             "RightForeArm": "rElbow", "RightHand": "rHand", "LeftArm": "lShoulder", "LeftForeArm": "lElbow",
+             "LeftHand": "lHand"}
+    text = N_POSE + _motion(N_POSE_JOINTS, N_POSE_FRAMES)
+    for old in sorted(names, key=len, reverse=True):
+        text = text.replace(f" {old}\n", f" {names[old]}\n")
+    rec = read_bvh_text(text)
+    assert rec.mapping == {role: names[old] for role, old in zip(
+        ("pelvis", "thorax", "head", "right_upper_arm", "right_forearm", "right_hand", "left_upper_arm",
+         "left_forearm", "left_hand"), N_POSE_JOINTS, strict=True)}
+    _assert_frames(rec, N_POSE_FRAMES, tol=1e-6)
+
+
 def test_name_map_and_missing_roles():
     text = (N_POSE + _motion(N_POSE_JOINTS, N_POSE_FRAMES)).replace("RightForeArm", "r_elbow_seg")
     with pytest.raises(RecordingError, match="right_forearm") as err:

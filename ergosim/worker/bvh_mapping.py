@@ -3,8 +3,8 @@
 Three steps, documented with the mapping table in docs/bvh.md:
 
 1. **Roles.** Each body segment the canonical angles need (pelvis, thorax, head, and per side clavicle,
-   upper arm, forearm, hand) is a BVH joint, found by name (Xsens MVN, generic/Vicon/CMU/Mixamo, DAZ/Poser
-   and OptiTrack Motive spellings, case-insensitive, namespace prefixes ``ns:`` ignored) or given by the
+   upper arm, forearm, hand) is a BVH joint, found by name (Xsens MVN, generic/Vicon/CMU/Mixamo/Motive,
+   Poser and DAZ-friendly spellings, case-insensitive, namespace prefixes ``ns:`` ignored) or given by the
    user. The thorax is the joint the clavicle (or, without one, the upper arm) hangs from.
 2. **Body frame.** The file's axes are related to the body frame (x forward, y left, z up) from the rest
    pose: up is pelvis -> head, left is right shoulder -> left shoulder, each snapped to the nearest file
@@ -42,10 +42,11 @@ REQUIRED_ROLES = ("pelvis", "thorax", "head", "right_upper_arm", "right_forearm"
 TRUNK_REFERENCES = ("vertical", "pelvis")
 
 _RIGHT_NAMES = {
-    "clavicle": ("RightShoulder", "RightCollar", "RightClavicle", "rCollar", "RShoulder"),
-    "upper_arm": ("RightUpperArm", "RightArm", "rShldr", "RUArm"),
-    "forearm": ("RightForeArm", "RightLowerArm", "rForeArm", "RFArm"),
-    "hand": ("RightHand", "rHand", "RHand"),
+    # Xsens MVN; generic/Vicon/CMU/Mixamo/Motive; Poser; DAZ-friendly (rcollar, rshoulder, relbow, rhand).
+    "clavicle": ("RightShoulder", "RightCollar", "RightClavicle", "rCollar"),
+    "upper_arm": ("RightUpperArm", "RightArm", "rShldr", "rShoulder"),
+    "forearm": ("RightForeArm", "RightLowerArm", "rForeArm", "rElbow"),
+    "hand": ("RightHand", "rHand"),
 }
 
 
