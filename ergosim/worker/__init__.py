@@ -1,5 +1,6 @@
 """The simulated worker: IK with natural priors, minimum-jerk motion, subjects, mocap stream, ergonomics."""
 
+from ergosim.worker.bvh import Recording, load_bvh, read_bvh_text, save_bvh
 from ergosim.worker.ik import IKPrior, IKSolution, UpperBodyIK, default_prior, log_so3
 from ergosim.worker.minimum_jerk import fitts_duration, interpolate_keyframes, min_jerk, min_jerk_velocity
 from ergosim.worker.motion import ActionMotion, Phase, SceneView, Worker
@@ -7,6 +8,10 @@ from ergosim.worker.stream import MocapFrames, MocapStream, MotionPlayback
 from ergosim.worker.subjects import Subject, make_subject, make_subjects, rest_angles
 
 __all__ = [
+    "Recording",
+    "load_bvh",
+    "read_bvh_text",
+    "save_bvh",
     "IKPrior",
     "IKSolution",
     "UpperBodyIK",
