@@ -1,0 +1,94 @@
+"""The inputs of one replanning call: the current configuration Θ and the hyper-arc cost vector.
+
+These are the only per-call allocations of the fast planner besides its level passes: one copy of the
+fixed costs (n_hyperarcs,) with the overrides written into it through index arrays built once.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Mapping
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ergosim.errors import ConfigError
+from ergosim.planner.validation import format_parts
+
+if TYPE_CHECKING:
+    from ergosim.planner.graph import AndOrGraph
+
+__all__ = ["configuration", "hyperarc_costs"]
+
+_EMPTY = np.zeros(0, dtype=np.int64)
+
+
+def configuration(graph: AndOrGraph, done: Iterable[str]) -> np.ndarray:
+    """Node indices (ascending) of the sub-assemblies of Θ after the operations ``done``.
+
+    Θ starts as the parts (Θ_i); each done operation replaces its children by its father. The
+    operations may be given in any order: they are applied smallest father first, which is a valid
+    order whenever one exists.
+    """
+    if isinstance(done, str):
+        raise ConfigError(
+            f"done must be a sequence of operation names, not the string {done!r}", where="done"
+        )
+    indices = []
+    for name in done:
+        index = graph._op_index.get(name)
+        if index is None:
+            raise ConfigError(f"unknown operation {name!r} in task {graph.name!r}", where="done")
+        if index in indices:
+            raise ConfigError(f"operation {name!r} is listed twice", where="done")
+        indices.append(index)
+    current = set(graph._leaf)
+    masks = graph._node_masks
+    for index in sorted(indices, key=lambda i: (masks[graph._op_father[i]].bit_count(), i)):
+        for child in graph._op_children[index]:
+            if child not in current:
+                op = graph.operations[index]
+                raise ConfigError(
+                    f"operation {op.name!r} cannot have been done: its child "
+                    f"{format_parts(graph.node_parts(child))} is not a separate sub-assembly after the "
+                    "other done operations",
+                    where="done",
+                )
+            current.remove(child)
+        current.add(graph._op_father[index])
+    return np.array(sorted(current), dtype=np.int64)
+
+
+def _key_indices(graph: AndOrGraph, key: tuple[str, str], where: str) -> np.ndarray:
+    if not (isinstance(key, tuple) and len(key) == 2):
+        raise ConfigError(f"keys are (action, agent) pairs, got {key!r}", where=where)
+    found = graph._key_hyperarcs.get(key)
+    if found is not None:
+        return found
+    action, agent = key
+    if action not in graph.actions:
+        raise ConfigError(f"unknown action {action!r}; actions are {list(graph.actions)}", where=where)
+    if agent not in graph._agent_index:
+        raise ConfigError(f"unknown agent {agent!r}; agents are {list(graph._agent_index)}", where=where)
+    return _EMPTY  # a known agent that may not do this action: nothing to override
+
+
+def hyperarc_costs(
+    graph: AndOrGraph,
+    costs: Mapping[tuple[str, str], float] | None,
+    pruned: Iterable[tuple[str, str]],
+) -> np.ndarray:
+    """(n_hyperarcs,) costs for this call: fixed costs, overridden by ``costs``, +inf where ``pruned``."""
+    cost = graph._layout.cost.copy()
+    if costs:
+        for key, value in costs.items():
+            index = _key_indices(graph, key, "costs")
+            if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
+                raise ConfigError(f"cost of {key!r} must be a number, got {value!r}", where="costs")
+            number = float(value)
+            if not (math.isfinite(number) and number >= 0.0):
+                raise ConfigError(f"cost of {key!r} must be finite and >= 0, got {value!r}", where="costs")
+            cost[index] = number
+    for key in pruned:
+        cost[_key_indices(graph, key, "pruned")] = np.inf
+    return cost

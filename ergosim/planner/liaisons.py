@@ -1,0 +1,217 @@
+"""AND/OR graph generation from liaisons and precedence constraints (Homem de Mello & Sanderson).
+
+A liaison is a pair of parts that connect, made by one action. Starting from the full assembly, every
+connected sub-assembly is a node, and every split of a node into two connected sub-assemblies that
+respects precedence is an operation. The operation *makes* the liaisons its split cuts; it respects
+precedence when every liaison that must come before one of them is already inside a child, and none
+that must come after one of them is.
+
+Splits are enumerated as the connected part sets S holding the node's first part whose complement is
+connected too, growing S one neighbour at a time (each connected set exactly once); a branch stops as
+soon as the parts it has excluded from S can no longer end up in one connected complement.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+from ergosim.errors import TaskFileError
+from ergosim.planner.agents import Operation
+
+__all__ = ["Liaison", "generate_operations", "child_label", "precedence_masks"]
+
+
+@dataclass(frozen=True)
+class Liaison:
+    """Parts ``a`` and ``b`` connect through ``action``; ``agents`` may make it at ``costs`` (aligned)."""
+
+    a: str
+    b: str
+    action: str
+    agents: tuple[str, ...]
+    costs: tuple[float, ...]
+
+
+def child_label(parts: Sequence[str], mask: int) -> str:
+    """Compact sub-assembly name: parts joined by '-', runs of three or more as 'first..last'."""
+    idx = [i for i in range(len(parts)) if mask >> i & 1]
+    out, start = [], 0
+    while start < len(idx):
+        end = start
+        while end + 1 < len(idx) and idx[end + 1] == idx[end] + 1:
+            end += 1
+        if end - start >= 2:
+            out.append(f"{parts[idx[start]]}..{parts[idx[end]]}")
+        else:
+            out.extend(parts[i] for i in idx[start : end + 1])
+        start = end + 1
+    return "-".join(out)
+
+
+def precedence_masks(
+    liaisons: Sequence[Liaison], precedence: Sequence[tuple[str, str]], where: str
+) -> tuple[list[int], list[int]]:
+    """Transitively closed (must-precede, must-follow) liaison bit sets for each liaison."""
+    n = len(liaisons)
+    by_action: dict[str, int] = {}
+    for i, liaison in enumerate(liaisons):
+        by_action[liaison.action] = by_action.get(liaison.action, 0) | 1 << i
+    pred = [0] * n
+    for before, after in precedence:
+        for j in range(n):
+            if by_action[after] >> j & 1:
+                pred[j] |= by_action[before]
+    for k in range(n):  # Warshall's transitive closure on bit sets
+        for j in range(n):
+            if pred[j] >> k & 1:
+                pred[j] |= pred[k]
+    for j in range(n):
+        if pred[j] >> j & 1:
+            raise TaskFileError(
+                f"precedence constraints form a cycle through action {liaisons[j].action!r}", where=where
+            )
+    succ = [0] * n
+    for j in range(n):
+        for k in range(n):
+            if pred[j] >> k & 1:
+                succ[k] |= 1 << j
+    return pred, succ
+
+
+def _reach(start: int, within: int, adj: Sequence[int]) -> int:
+    seen = frontier = start
+    while frontier:
+        low = frontier & -frontier
+        frontier ^= low
+        new = adj[low.bit_length() - 1] & within & ~seen
+        seen |= new
+        frontier |= new
+    return seen
+
+
+def _connected(mask: int, adj: Sequence[int]) -> bool:
+    return mask != 0 and _reach(mask & -mask, mask, adj) == mask
+
+
+def _splits(father: int, adj: Sequence[int]) -> list[int]:
+    """Connected S ∋ first part of ``father`` with a connected, non-empty complement; in search order."""
+    found: list[int] = []
+
+    def grow(s: int, candidates: int, excluded: int) -> None:
+        rest = father & ~s
+        if rest and _connected(rest, adj):
+            found.append(s)
+        while candidates:
+            v = candidates & -candidates
+            candidates ^= v
+            s2 = s | v
+            if excluded and _reach(excluded & -excluded, father & ~s2, adj) & excluded != excluded:
+                excluded |= v
+                continue
+            grow(s2, (candidates | adj[v.bit_length() - 1]) & father & ~s2 & ~excluded, excluded)
+            excluded |= v
+
+    first = father & -father
+    grow(first, adj[first.bit_length() - 1] & father, 0)
+    return found
+
+
+def generate_operations(
+    parts: Sequence[str],
+    liaisons: Sequence[Liaison],
+    precedence: Sequence[tuple[str, str]],
+    agent_order: Sequence[str],
+    *,
+    explicit_children: Mapping[int, Sequence[Sequence[int]]] | None = None,
+    where: str = "",
+) -> list[tuple[Operation, int]]:
+    """Operations generated from the liaisons, each with the index of the first liaison it makes.
+
+    Args:
+        parts: part names; bit i of a mask is ``parts[i]``.
+        liaisons: the liaisons, resolved to per-agent costs.
+        precedence: (action before, action after) pairs over liaison actions.
+        agent_order: all agent names, which orders each operation's agents.
+        explicit_children: father mask -> child masks of hand-written operations, followed so that
+            liaisons also expand the nodes those operations reach (mixed task files).
+
+    Returns:
+        Operations in order of their father (size, then parts), then of the split search.
+    """
+    index = {p: i for i, p in enumerate(parts)}
+    adj = [0] * len(parts)
+    ends = []
+    for liaison in liaisons:
+        a, b = index[liaison.a], index[liaison.b]
+        adj[a] |= 1 << b
+        adj[b] |= 1 << a
+        ends.append((1 << a, 1 << b))
+    pred, succ = precedence_masks(liaisons, precedence, where)
+    constrained = any(pred) or any(succ)
+    explicit_children = explicit_children or {}
+    root = (1 << len(parts)) - 1
+    splits_of: dict[int, list[tuple[int, list[int]]]] = {}
+    stack, seen = [root], {root}
+    while stack:
+        father = stack.pop()
+        following = [c for children in explicit_children.get(father, ()) for c in children]
+        if father.bit_count() > 1 and _connected(father, adj):
+            inside = [k for k, (a, b) in enumerate(ends) if father & a and father & b]
+            valid = []
+            for s in _splits(father, adj):
+                cut = [k for k in inside if bool(s & ends[k][0]) != bool(s & ends[k][1])]
+                if constrained and not _respects(cut, inside, pred, succ):
+                    continue
+                valid.append((s, cut))
+                following += [s, father & ~s]
+            splits_of[father] = valid
+        for child in following:
+            if child not in seen:
+                seen.add(child)
+                stack.append(child)
+    out = []
+    for father in sorted(
+        splits_of, key=lambda m: (m.bit_count(), [i for i in range(len(parts)) if m >> i & 1])
+    ):
+        for s, cut in splits_of[father]:
+            out.append((_operation(parts, liaisons, cut, father, s, agent_order), cut[0]))
+    return out
+
+
+def _respects(cut: list[int], inside: list[int], pred: Sequence[int], succ: Sequence[int]) -> bool:
+    """Every predecessor of a cut liaison is already made inside a child; no successor is made yet."""
+    made = 0
+    for k in inside:
+        made |= 1 << k
+    now = 0
+    for k in cut:
+        now |= 1 << k
+    made &= ~now
+    return not any(pred[k] & ~made or succ[k] & (made | now) for k in cut)
+
+
+def _operation(
+    parts: Sequence[str],
+    liaisons: Sequence[Liaison],
+    cut: list[int],
+    father: int,
+    s: int,
+    agent_order: Sequence[str],
+) -> Operation:
+    made = [liaisons[k] for k in cut]
+    action = "+".join(dict.fromkeys(liaison.action for liaison in made))
+    agents = [a for a in agent_order if all(a in liaison.agents for liaison in made)]
+    costs = tuple(sum(liaison.costs[liaison.agents.index(a)] for liaison in made) for a in agents)
+    t = father & ~s
+    return Operation(
+        name=f"{child_label(parts, s)}+{child_label(parts, t)}",
+        action=action,
+        father=tuple(p for i, p in enumerate(parts) if father >> i & 1),
+        children=(
+            tuple(p for i, p in enumerate(parts) if s >> i & 1),
+            tuple(p for i, p in enumerate(parts) if t >> i & 1),
+        ),
+        agents=tuple(agents),
+        costs=costs,
+    )

@@ -1,0 +1,146 @@
+"""The ``paper`` planner: Algorithm 1 (AO* search) of the paper, over assembly configurations.
+
+A SearchState holds a configuration Θ (a set of disjoint sub-assemblies covering every part), a
+father pointer and a score c. The search starts from Θ_f = {full assembly} and ends at the goal, the
+current configuration (Θ_i at the start of the task; after each action, Algorithm 2 calls it again with
+the configuration reached, see :func:`ergosim.planner.plan.replan_until_done`). Expanding a state
+replaces one of its sub-assemblies θ_j by the children of one hyper-arc with father θ_j; the successor's
+score is the father's score plus the hyper-arc cost. The state of minimum score is expanded next
+(OPEN ordered by (score, insertion order)), improved states in CLOSE are re-opened, and the optimal path
+is read back from the goal along the father pointers. The hyper-arcs on that path form the plan tree.
+
+Only successors whose sub-assemblies are unions of goal sub-assemblies are generated: the others can
+never reach the goal. This is the paper's "reduced tree" when re-planning from a later configuration
+and changes nothing at the start of the task. A configuration is a Python int with one bit per node.
+"""
+
+from __future__ import annotations
+
+import heapq
+import time
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ergosim.errors import InfeasiblePlanError
+from ergosim.planner import bottom_up, diagnose
+
+if TYPE_CHECKING:
+    from ergosim.planner.graph import AndOrGraph
+
+__all__ = ["solve", "SearchBudgetExceeded"]
+
+_CHECK_EVERY = 1024
+
+
+class SearchBudgetExceeded(TimeoutError):
+    """The search ran past its ``time_budget``; raised so a benchmark can record it as skipped."""
+
+
+def _edges(graph: AndOrGraph) -> list[list[tuple[int, int]]]:
+    """Per node: (hyper-arc index, bit set of its children's nodes), built once per graph."""
+    if graph._paper_cache is None:
+        lay = graph._layout
+        child_bits = [sum(1 << c for c in set(children)) for children in graph._op_children]
+        ops = lay.op.tolist()
+        graph._paper_cache = [
+            [(h, child_bits[ops[h]]) for h in range(int(lay.seg_start[n]), int(lay.seg_end[n]))]
+            for n in range(graph.n_nodes)
+        ]
+    return graph._paper_cache  # type: ignore[return-value]
+
+
+def _successor_table(graph: AndOrGraph, config: np.ndarray, cost: np.ndarray) -> list[list[tuple]]:
+    """Per node: (cost, hyper-arc, children bits) of the usable hyper-arcs of this call."""
+    masks = graph._node_masks
+    element_of_part = [0] * len(graph.parts)
+    for n in config.tolist():
+        m = masks[n]
+        for i in range(len(graph.parts)):
+            if m >> i & 1:
+                element_of_part[i] = m
+    consistent = 0
+    for n, m in enumerate(masks):
+        union, rest = 0, m
+        while rest:
+            low = rest & -rest
+            union |= element_of_part[low.bit_length() - 1]
+            rest ^= low
+        if union == m:
+            consistent |= 1 << n
+    c = cost.tolist()
+    return [
+        [(c[h], h, bits) for h, bits in edges if c[h] != float("inf") and bits & consistent == bits]
+        for edges in _edges(graph)
+    ]
+
+
+def solve(
+    graph: AndOrGraph, config: np.ndarray, cost: np.ndarray, *, time_budget: float | None = None
+) -> list[int]:
+    """Hyper-arc indices of an optimal plan tree from Θ = ``config`` to the root (Algorithm 1).
+
+    Raises:
+        InfeasiblePlanError: OPEN ran empty before the goal was reached.
+        SearchBudgetExceeded: the search took longer than ``time_budget`` seconds.
+    """
+    deadline = None if time_budget is None else time.perf_counter() + time_budget
+    succ = _successor_table(graph, config, cost)
+    start = 1 << graph._root
+    goal = 0
+    for n in config.tolist():
+        goal |= 1 << n
+    open_ = {start: 0.0}
+    close: dict[int, float] = {}
+    father: dict[int, tuple[int, int]] = {start: (0, -1)}
+    heap = [(0.0, 0, start)]
+    pushed = 1
+    popped = 0
+    curr = None
+    while heap:
+        score, _, state = heapq.heappop(heap)
+        if open_.get(state) != score:
+            continue  # stale heap entry: the state was improved or closed since
+        popped += 1
+        if deadline is not None and popped % _CHECK_EVERY == 0 and time.perf_counter() > deadline:
+            raise SearchBudgetExceeded(f"paper search exceeded {time_budget} s after {popped} expansions")
+        if state == goal:
+            curr = state
+            break
+        rest = state
+        while rest:
+            low = rest & -rest
+            rest ^= low
+            base = state ^ low
+            for c, h, bits in succ[low.bit_length() - 1]:
+                nxt = base | bits
+                sc = score + c
+                if nxt in open_:
+                    if sc < open_[nxt]:
+                        open_[nxt] = sc
+                        father[nxt] = (state, h)
+                        heapq.heappush(heap, (sc, pushed, nxt))
+                        pushed += 1
+                elif nxt in close:
+                    if sc < close[nxt]:
+                        del close[nxt]
+                        open_[nxt] = sc
+                        father[nxt] = (state, h)
+                        heapq.heappush(heap, (sc, pushed, nxt))
+                        pushed += 1
+                else:
+                    open_[nxt] = sc
+                    father[nxt] = (state, h)
+                    heapq.heappush(heap, (sc, pushed, nxt))
+                    pushed += 1
+        del open_[state]
+        close[state] = score
+    if curr is None:
+        value, _ = bottom_up.node_costs(graph, config, cost)
+        reason, op_name, part = diagnose.explain(graph, config, cost, value)
+        raise InfeasiblePlanError(f"no feasible plan: {reason}", where=graph.where(op_name, part))
+    path = []
+    while curr != start:
+        curr, h = father[curr]
+        path.append(h)
+    return path
