@@ -104,18 +104,17 @@ class AndOrGraph:
         for i, (father, _) in enumerate(masks_of):
             joined |= father
             by_father.setdefault(father, []).append(i)
-        if len(self.parts) > 1:
+        if len(self.parts) > 1 and root not in by_father:
             for part, index in self._part_index.items():
-                if not joined >> index & 1:
+                if self.operations and not joined >> index & 1:
                     raise InfeasiblePlanError(
                         f"no feasible plan: part {part!r} can never be joined: no operation includes it",
                         where=self.where(part=part),
                     )
-            if root not in by_father:
-                raise InfeasiblePlanError(
-                    f"no feasible plan: no operation joins the full assembly {format_parts(self.parts)}",
-                    where=self.source,
-                )
+            raise InfeasiblePlanError(
+                f"no feasible plan: no operation joins the full assembly {format_parts(self.parts)}",
+                where=self.source,
+            )
         reached = {root} | {1 << i for i in range(len(self.parts))}
         stack = [root]
         while stack:

@@ -34,14 +34,14 @@ class Liaison:
 
 
 def child_label(parts: Sequence[str], mask: int) -> str:
-    """Compact sub-assembly name: parts joined by '-', runs of three or more as 'first..last'."""
+    """Compact sub-assembly name: parts joined by '-', runs of four or more as 'first..last'."""
     idx = [i for i in range(len(parts)) if mask >> i & 1]
     out, start = [], 0
     while start < len(idx):
         end = start
         while end + 1 < len(idx) and idx[end + 1] == idx[end] + 1:
             end += 1
-        if end - start >= 2:
+        if end - start >= 3:
             out.append(f"{parts[idx[start]]}..{parts[idx[end]]}")
         else:
             out.extend(parts[i] for i in idx[start : end + 1])

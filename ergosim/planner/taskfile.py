@@ -256,13 +256,17 @@ class _Builder:
         return pairs
 
     def check_connected(self, ops: list[Operation], liaisons: list[Liaison]) -> None:
-        """Without a hand-written root operation, the liaisons must connect every part."""
-        root = tuple(self.parts)
-        if not liaisons or any(op.father == root for op in ops):
-            return
+        """Every part is in some entry; without a hand-written root operation, liaisons connect them all."""
         used = {p for op in ops for p in op.father} | {p for lia in liaisons for p in (lia.a, lia.b)}
-        if len(used) < len(self.parts):
-            return  # a part no entry mentions: the graph reports that part
+        for i, part in enumerate(self.parts):
+            if len(self.parts) > 1 and part not in used:
+                raise InfeasiblePlanError(
+                    f"no feasible plan: part {part!r} can never be joined: "
+                    "no liaison or operation includes it",
+                    where=self.at(f"parts[{i}] {part!r}"),
+                )
+        if not liaisons or any(op.father == tuple(self.parts) for op in ops):
+            return
         group = {p: {p} for p in self.parts}
         for lia in liaisons:
             if group[lia.a] is not group[lia.b]:
