@@ -1,0 +1,60 @@
+"""Planner benchmark: fast vs paper replan times on the paper's generated tasks (§6), and beyond.
+
+    python scripts/bench_planner.py [--json PATH] [--plot PATH] [--quick] [--cap SECONDS] [--seed S]
+
+Prints a table as rows complete, then the targets; writes a PNG plot and optionally the rows as JSON.
+The logic lives in ergosim.planner.benchmark.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from ergosim.atomic import write_json
+from ergosim.planner.benchmark import (
+    DEFAULT_CAP_S,
+    check_targets,
+    format_row,
+    format_table,
+    rows_json,
+    run_benchmark,
+)
+from ergosim.planner.benchmark_plot import plot_benchmark
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--json", metavar="PATH", help="write {'rows': [...]} to PATH")
+    parser.add_argument("--plot", metavar="PATH", default="bench_planner.png", help="PNG plot path")
+    parser.add_argument("--quick", action="store_true", help="fewer, smaller rows (a smoke run)")
+    parser.add_argument(
+        "--cap",
+        type=float,
+        default=None,
+        help=f"paper planner cap per row [s] (default {DEFAULT_CAP_S:g}, quick 5)",
+    )
+    parser.add_argument("--seed", type=int, default=0, help="seed of the task and replan costs")
+    args = parser.parse_args(argv)
+    cap = args.cap if args.cap is not None else (5.0 if args.quick else DEFAULT_CAP_S)
+    print(f"paper planner cap: {cap:g} s per row; times are medians of replans [ms]", flush=True)
+    print(format_table([]), flush=True)
+    rows = run_benchmark(
+        quick=args.quick, cap_s=cap, seed=args.seed, progress=lambda r: print(format_row(r), flush=True)
+    )
+    print()
+    print(format_table(rows))
+    print()
+    for target, met, value in check_targets(rows):
+        verdict = "not measured" if met is None else ("met" if met else "MISSED")
+        print(f"{verdict:>12}  {target}: {value}")
+    plot_benchmark(rows, args.plot)
+    print(f"plot: {args.plot}")
+    if args.json:
+        write_json(args.json, rows_json(rows))
+        print(f"json: {args.json}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
