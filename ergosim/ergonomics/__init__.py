@@ -1,35 +1,83 @@
 """Ergonomic assessment (paper §4-5): RULA per body part, the Kinematic Wear index, its calibration,
-risk indices and the hyper-arc cost model."""
+the per-worker parameter store, risk indices and the hyper-arc cost model."""
 
 from __future__ import annotations
 
-import numpy as np
-
-from ergosim.ergonomics.kwear import KWearParams, alpha_of, kwear_step, kwear_trajectory, predict
-from ergosim.ergonomics.rula import RulaResult, RulaThresholds, rula, table_a, table_b, table_c
+from ergosim.ergonomics.calibration import (
+    ActionCalibration,
+    Calibration,
+    Execution,
+    calibrate,
+    calibrate_action,
+    execution_from_angles,
+    online_alpha,
+)
+from ergosim.ergonomics.cost import (
+    G_MAX_PAPER,
+    CostParams,
+    CostRangeWarning,
+    gamma_terms,
+    human_cost,
+    hyperarc_costs,
+    risk_costs,
+    rula_baseline_agent,
+    rula_baseline_params,
+)
+from ergosim.ergonomics.kwear import V_CEIL, KWearParams, alpha_of, kwear_step, kwear_trajectory, predict
+from ergosim.ergonomics.param_store import ParamStore, WorkerParams
+from ergosim.ergonomics.risk_index import KWearIndex, RiskIndex, StaticRulaIndex
+from ergosim.ergonomics.rula import (
+    RULA_INPUTS,
+    RulaResult,
+    RulaThresholds,
+    action_level,
+    part_scores,
+    rula,
+    table_a,
+    table_b,
+    table_c,
+)
 
 __all__ = [
+    # RULA
+    "RULA_INPUTS",
     "RulaResult",
     "RulaThresholds",
     "rula",
     "table_a",
     "table_b",
     "table_c",
+    "action_level",
     "part_scores",
+    # KWear
     "KWearParams",
+    "V_CEIL",
     "kwear_step",
     "kwear_trajectory",
     "alpha_of",
     "predict",
+    # calibration and parameters
+    "Execution",
+    "ActionCalibration",
+    "Calibration",
+    "execution_from_angles",
+    "calibrate_action",
+    "calibrate",
+    "online_alpha",
+    "WorkerParams",
+    "ParamStore",
+    # risk indices and costs
+    "RiskIndex",
+    "KWearIndex",
+    "StaticRulaIndex",
+    "CostParams",
+    "CostRangeWarning",
+    "G_MAX_PAPER",
+    "gamma_terms",
+    "human_cost",
+    "hyperarc_costs",
+    "risk_costs",
+    "rula_baseline_params",
+    "rula_baseline_agent",
 ]
 
-
-def part_scores(result: RulaResult, out: np.ndarray | None = None) -> np.ndarray:
-    """KWear inputs G_i (paper eq. 3) from a RULA result: (..., 5) floats in ``posture.KWEAR_JOINTS`` order
-    (shoulder = upper arm, elbow = lower arm, wrist, trunk, neck); NaN where the frame is not valid."""
-    parts = (result.upper_arm, result.lower_arm, result.wrist, result.trunk, result.neck)
-    if out is None:
-        return np.stack(np.broadcast_arrays(*(np.asarray(p, dtype=float) for p in parts)), axis=-1)
-    for i, p in enumerate(parts):
-        out[..., i] = p
-    return out

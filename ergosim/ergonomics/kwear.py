@@ -72,7 +72,7 @@ def kwear_step(v, g, dt: float, params: KWearParams, resting=False,
     """
     v = np.asarray(v, dtype=float)
     g = np.abs(np.asarray(g, dtype=float))
-    if dt < 0:
+    if not dt >= 0:  # also rejects NaN, which would poison V
         raise ValueError(f"dt must be >= 0 s, got {dt}")
     k = dt / params.C
     if np.ndim(resting) == 0 and resting:
