@@ -1,0 +1,130 @@
+"""The digital-twin loop of paper Fig. 1 for one subject in one mode.
+
+Every control tick (the mocap rate, 60 Hz by default) the worker's true posture sets the human's ``qpos``,
+the robot's skill sets its actuators, and MuJoCo steps the plant. Every ergonomics tick (20 Hz) the
+measured mocap frame's RULA part scores G_i advance KWear (eq. 3-5). When an action completes -- detected
+in the scene: a profile seated, a part placed, a handover taken -- the risk index predicts V̂ for every
+candidate action (eq. 9), the cost model turns it into hyper-arc costs (eq. 10-11), and the planner
+(RecursiveAO*, Algorithm 2) returns the next (action, agent), which is dispatched to the robot's skill or
+to the worker's motion.
+"""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+
+from ergosim.ergonomics.kwear import kwear_step
+from ergosim.posture import KWEAR_JOINTS
+from ergosim.twin.records import TICK_COLUMNS, TickLog
+from ergosim.twin.worker_track import WorkerTrack
+
+__all__ = ["Plant"]
+
+_M = len(KWEAR_JOINTS)
+
+
+class Plant:
+    """Time keeping, physics and per-tick ergonomics for one workcell and one worker.
+
+    ``mocap_rate`` [Hz] is the control tick; physics takes ``n_sub`` MuJoCo steps per control tick with the
+    timestep adjusted so the two clocks agree exactly; the ergonomics tick runs every ``tick_every`` control
+    ticks. ``robot`` is any object with ``step(plant) -> None`` called once per control tick (or None).
+    """
+
+    def __init__(self, cell, track: WorkerTrack, human, kwear_params, *, mocap_rate: float,
+                 ergonomics_rate: float, physics_dt: float, record_bodies: bool = False) -> None:
+        self.cell = cell
+        self.model: mujoco.MjModel = cell.model
+        self.data: mujoco.MjData = cell.data
+        self.track = track
+        self.human = human
+        self.params = kwear_params
+        self.dt_control = 1.0 / mocap_rate
+        self.n_sub = max(1, int(round(self.dt_control / physics_dt)))
+        self.model.opt.timestep = self.dt_control / self.n_sub
+        self.tick_every = int(round(mocap_rate / ergonomics_rate))
+        self.dt_tick = self.tick_every * self.dt_control
+        self.ticks = 0  # control ticks since the start
+        self.v = np.zeros(_M)
+        self.repetition = 0
+        self.log = TickLog()
+        self.dropouts = 0
+        self.robot = None
+        self.on_grasp = None
+        self.on_release = None
+        self.frame_hook = None
+        self._zero_g = np.zeros(_M)
+        self._last_g = np.full(_M, np.nan)
+        self._row = np.empty(len(TICK_COLUMNS))
+        self._qadr = np.asarray(human.qadr)
+        self._dofadr = np.asarray(human.dofadr)
+        self.record_bodies = record_bodies
+        self.body_pos: list[np.ndarray] = []
+        self.body_quat: list[np.ndarray] = []
+        self.tick_times: list[float] = []
+
+    @property
+    def time(self) -> float:
+        """Simulated time [s], exact multiple of the control period."""
+        return self.ticks * self.dt_control
+
+    # -- one control tick ----------------------------------------------------------------------------------
+    def step(self) -> None:
+        track = self.track
+        if track.exhausted:
+            track.start_rest(1.0)
+        seg = track.segment
+        k = track.advance()
+        d = self.data
+        d.qpos[self._qadr] = np.deg2rad(seg.true[k])
+        d.qvel[self._dofadr] = 0.0
+        if k == seg.grasp_frame and track.index == k + 1 and self.on_grasp is not None:
+            self.on_grasp()
+        if k == seg.release_frame and track.index == k + 1 and self.on_release is not None:
+            self.on_release()
+        if self.frame_hook is not None:
+            self.frame_hook(k)
+        if self.robot is not None:
+            self.robot.step(self)
+        mujoco.mj_step(self.model, d, nstep=self.n_sub)
+        self.ticks += 1
+        if self.ticks % self.tick_every == 0:
+            self._ergonomics_tick(seg, k)
+
+    def _ergonomics_tick(self, seg, k: int) -> None:
+        """Paper eq. 3-5 over one ergonomics period; a dropout holds the last valid scores (never NaN)."""
+        g = seg.g[k]
+        dropout = bool(np.isnan(g[0]))
+        if dropout:
+            self.dropouts += 1
+        if seg.acting:
+            if not dropout:
+                self._last_g = g
+            if not np.isnan(self._last_g[0]):
+                self.v = kwear_step(self.v, self._last_g, self.dt_tick, self.params)
+        else:
+            self.v = kwear_step(self.v, self._zero_g, self.dt_tick, self.params, resting=True)
+        row = self._row
+        row[0] = self.repetition
+        row[1] = self.time
+        row[2] = float(seg.acting)
+        row[3] = float(dropout)
+        row[4:18] = seg.measured[k]
+        row[18:25] = seg.rula[k]
+        row[25] = seg.grand[k]
+        row[26:31] = self.v
+        self.log.append(row)
+        if self.record_bodies:
+            self.body_pos.append(self.data.xpos.copy())
+            self.body_quat.append(self.data.xquat.copy())
+            self.tick_times.append(self.time)
+
+    def run_until(self, done, max_seconds: float) -> bool:
+        """Step until ``done()`` is true; False if ``max_seconds`` of simulated time passed first."""
+        limit = self.ticks + int(np.ceil(max_seconds / self.dt_control))
+        while not done():
+            if self.ticks >= limit:
+                return False
+            self.step()
+        return True

@@ -1,0 +1,215 @@
+"""One subject's repetitions in one mode: decisions (Algorithm 2), dispatch, completion, takt.
+
+The session owns the allocation logic of paper Fig. 1 and nothing physical: the plant steps the scene and
+the ergonomics, the worker track supplies the worker's frames, the robot track drives the Panda's skills.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import mujoco
+import numpy as np
+
+from ergosim.scenes.build import weld_name
+from ergosim.twin.allocator import Allocator, Decision
+from ergosim.twin.in_hand import InHandTurn, relative_pose
+from ergosim.twin.loop import Plant
+from ergosim.twin.records import Allocation, SubjectRun
+from ergosim.worker.motion import Worker
+
+__all__ = ["Session"]
+
+# Time allowed to any single action before it counts as failed [s of simulated time]; the slowest robot
+# action at 0.05 m/s takes about 30 s, the slowest human action about 8 s.
+_ACTION_TIMEOUT = 180.0
+_PLACE_TOLERANCE = 0.03  # m, a placed part's origin within this distance of its target site
+
+
+@dataclasses.dataclass
+class _Outcome:
+    ok: bool
+    status: str
+    t_start: float
+    t_end: float
+
+
+class Session:
+    """Runs ``repetitions`` of the task for one subject in one mode and returns a :class:`SubjectRun`."""
+
+    def __init__(self, *, cfg, mode: str, subject_index: int, worker: Worker, plant: Plant, robot,
+                 allocator: Allocator, rng: np.random.Generator, recorder=None) -> None:
+        self.cfg = cfg
+        self.mode = mode
+        self.subject_index = subject_index
+        self.worker = worker
+        self.plant = plant
+        self.cell = plant.cell
+        self.robot = robot
+        self.allocator = allocator
+        self.rng = rng
+        self.recorder = recorder
+        self.hand = f"human_{worker.side}"
+        self.allocations: list[Allocation] = []
+        self.failures: list[str] = []
+        self.decisions: list[Decision] = []
+        self._scratch = mujoco.MjData(self.cell.model)
+
+    # -- completion, detected in the scene -----------------------------------------------------------------
+    def completed(self, geom) -> bool:
+        if geom.kind == "insert":
+            return self.cell.is_seated(geom.part)
+        if self.cell.holder_of(geom.part) is not None:
+            return False
+        pos, _ = self.cell.body_pose(geom.part)
+        target, _ = self.cell.site_pose(geom.target)
+        return float(np.linalg.norm(pos - target)) <= _PLACE_TOLERANCE
+
+    def _settle(self, geom, seconds: float = 1.0) -> bool:
+        """Let a released part come to rest, then check completion (the scene decides, not a timer)."""
+        return self.plant.run_until(lambda: self.completed(geom), seconds) or self.completed(geom)
+
+    # -- the worker does an action -------------------------------------------------------------------------
+    def _in_hand_turn(self, motion, geom, body: str) -> InHandTurn:
+        """The weld target that brings ``body`` onto ``geom.target`` when the hand reaches its place pose."""
+        cell, plant = self.cell, self.plant
+        rate = motion.rate
+        place = next(ph for ph in motion.phases if ph.name in ("place", "insert"))
+        start = int(np.ceil(motion.t_grasp * rate))
+        end = min(int(np.ceil(place.start * rate)), len(motion.t) - 1)
+        # Hand pose at the place frame, from the scene's own kinematics on a scratch copy.
+        scratch = self._scratch
+        scratch.qpos[:] = plant.data.qpos
+        scratch.qpos[plant.human.qadr] = np.deg2rad(motion.angles[end])
+        mujoco.mj_kinematics(cell.model, scratch)
+        hand = cell.model.body(cell.hand_bodies[self.hand]).id
+        tgt_p, tgt_q = cell.site_pose(geom.target)
+        if body != geom.part:  # the whole assembly, held by one of its profiles: keep the profile's offset
+            rel_p, rel_q = relative_pose(*cell.body_pose(geom.part), *cell.body_pose(body))
+            r = np.empty(9)
+            mujoco.mju_quat2Mat(r, tgt_q)
+            q = np.empty(4)
+            mujoco.mju_mulQuat(q, tgt_q, rel_q)
+            tgt_p, tgt_q = tgt_p + r.reshape(3, 3) @ rel_p, q
+        pos1, quat1 = relative_pose(scratch.xpos[hand], scratch.xquat[hand], tgt_p, tgt_q)
+        eq = cell.model.equality(weld_name(self.hand, body)).id
+        return InHandTurn(cell.model, eq, pos1, quat1, start, end)
+
+    def _worker_action(self, geom, handover: bool = False) -> _Outcome:
+        plant, cell = self.plant, self.cell
+        t0 = plant.time
+        motion = self.worker.plan(cell, geom, self.rng, action=geom.action, handover=handover)
+        plant.track.start_action(motion)
+        grasp_part = cell.grasp_body(geom.part) if geom.kind == "remove" else geom.part
+
+        def on_grasp() -> None:
+            if handover:
+                self.robot.hand_over(plant)
+            cell.grasp(self.hand, grasp_part)
+
+        def on_release() -> None:
+            cell.release(self.hand, grasp_part)
+            if geom.kind == "insert":
+                cell.seat(geom.part)
+
+        plant.on_grasp, plant.on_release = on_grasp, on_release
+        plant.frame_hook = self._in_hand_turn(motion, geom, grasp_part)
+        try:
+            finished = plant.run_until(lambda: not plant.track.busy, motion.duration + 1.0)
+        finally:
+            plant.on_grasp = plant.on_release = plant.frame_hook = None
+        ok = finished and self._settle(geom, 0.5)
+        status = "ok" if ok else ("timeout" if not finished else "not_completed")
+        return _Outcome(ok, status, t0, plant.time)
+
+    # -- the robot does an action --------------------------------------------------------------------------
+    def _robot_action(self, geom) -> _Outcome:
+        plant = self.plant
+        t0 = plant.time
+        self.robot.start(geom, plant)
+        handover = geom.handover is not None
+        if handover:
+            arrived = plant.run_until(lambda: self.robot.waiting or self.robot.done, _ACTION_TIMEOUT)
+            if not arrived or self.robot.done:
+                return self._robot_failure(t0)
+            # The worker takes the part from the gripper and inserts it (paper §7.2, Fig. 8 bottom).
+            out = self._worker_action(geom, handover=True)
+            plant.run_until(lambda: self.robot.done, _ACTION_TIMEOUT)
+            return _Outcome(out.ok, out.status, t0, plant.time)
+        if not plant.run_until(lambda: self.robot.done, _ACTION_TIMEOUT):
+            return _Outcome(False, "timeout", t0, plant.time)
+        if not self.robot.ok:
+            return self._robot_failure(t0)
+        if geom.kind == "insert":
+            self.cell.seat(geom.part)
+        ok = self._settle(geom, 1.0)
+        return _Outcome(ok, "ok" if ok else "not_completed", t0, plant.time)
+
+    def _robot_failure(self, t0: float) -> _Outcome:
+        self.plant.run_until(lambda: self.robot.done, _ACTION_TIMEOUT)
+        return _Outcome(False, self.robot.status_name, t0, self.plant.time)
+
+    # -- repetitions ---------------------------------------------------------------------------------------
+    def _repetition(self, rep: int) -> bool:
+        plant, alloc = self.plant, self.allocator
+        done: list[str] = []
+        pruned: set[tuple[str, str]] = set()
+        order = 0
+        while True:
+            decision = alloc.decide(plant.v, done, pruned, plant.time, rep)
+            if decision is None:
+                return True
+            self.decisions.append(decision)
+            if self.recorder is not None:
+                self.recorder.log_decision_event(decision, alloc)
+            geom = self.cell.actions[decision.action]
+            if decision.agent == alloc.human:
+                out = self._worker_action(geom)
+            else:
+                out = self._robot_action(geom)
+            if out.ok:
+                done.append(decision.operation)
+                pruned.clear()
+                alloc.observe(decision, plant)
+            else:
+                # Paper §2.2: a robot that cannot do an action loses its hyper-arc for this attempt and the
+                # planner re-plans without it; the worker retries from wherever the part now lies.
+                msg = (f"repetition {rep}: {decision.action} by {decision.agent} failed ({out.status}) "
+                       f"at t={out.t_end:.1f} s")
+                self.failures.append(msg)
+                if decision.agent != alloc.human:
+                    pruned.add((decision.action, decision.agent))
+            self.allocations.append(Allocation(
+                subject=self.subject_index, mode=self.mode, repetition=rep, order=order,
+                action=decision.action, agent=decision.agent,
+                human_cost=decision.cost_of(alloc.human), robot_cost=decision.cost_of(alloc.robot),
+                t_start=out.t_start, t_end=out.t_end, had_choice=decision.had_choice, status=out.status,
+            ))
+            order += 1
+            if len(self.failures) > 10 * (rep + 1):
+                return False
+
+    def run(self, repetitions: int) -> SubjectRun:
+        plant, cfg = self.plant, self.cfg
+        completed = overruns = 0
+        wait = self.mode == "h-only"  # paper §7.2: without the robot the worker waits for the takt
+        for rep in range(1, repetitions + 1):
+            slot = (rep - 1) * cfg.takt
+            if wait and plant.time < slot:
+                plant.track.start_rest(slot - plant.time)
+                plant.run_until(lambda s=slot: plant.time >= s - 1e-9, slot - plant.time + 1.0)
+            self.cell.reset_parts()  # the second operator lays the parts out again (§7.2)
+            plant.repetition = rep
+            start = plant.time
+            ok = self._repetition(rep)
+            completed += int(ok)
+            overruns += int(plant.time - start > cfg.takt)
+            if self.recorder is not None:
+                self.recorder.flush_repetition(plant, rep)
+            if not ok:
+                break
+        return SubjectRun(
+            subject=self.subject_index, mode=self.mode, allocations=self.allocations, ticks=plant.log,
+            repetitions_completed=completed, takt_overruns=overruns, dt_tick=plant.dt_tick, v_th=cfg.v_th,
+            failures=self.failures,
+        )
