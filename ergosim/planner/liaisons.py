@@ -19,7 +19,7 @@ from dataclasses import dataclass
 from ergosim.errors import TaskFileError
 from ergosim.planner.agents import Operation
 
-__all__ = ["Liaison", "generate_operations", "child_label", "precedence_masks"]
+__all__ = ["Liaison", "generate_operations", "child_label", "precedence_masks", "liaison_groups"]
 
 
 @dataclass(frozen=True)
@@ -77,6 +77,21 @@ def precedence_masks(
             if pred[j] >> k & 1:
                 succ[k] |= 1 << j
     return pred, succ
+
+
+def liaison_groups(parts: Sequence[str], liaisons: Sequence[Liaison]) -> list[list[str]]:
+    """The parts grouped into the connected components of the liaison graph, in part order."""
+    index = {p: i for i, p in enumerate(parts)}
+    adj = [0] * len(parts)
+    for liaison in liaisons:
+        adj[index[liaison.a]] |= 1 << index[liaison.b]
+        adj[index[liaison.b]] |= 1 << index[liaison.a]
+    groups, left = [], (1 << len(parts)) - 1
+    while left:
+        group = _reach(left & -left, left, adj)
+        groups.append([p for i, p in enumerate(parts) if group >> i & 1])
+        left &= ~group
+    return groups
 
 
 def _reach(start: int, within: int, adj: Sequence[int]) -> int:

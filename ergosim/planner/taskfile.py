@@ -15,7 +15,7 @@ from typing import Any
 from ergosim.errors import InfeasiblePlanError, TaskFileError
 from ergosim.planner.agents import Agent, Operation, check_cost, check_name
 from ergosim.planner.graph import AndOrGraph
-from ergosim.planner.liaisons import Liaison, generate_operations
+from ergosim.planner.liaisons import Liaison, generate_operations, liaison_groups
 from ergosim.planner.validation import format_parts
 
 __all__ = ["load_task", "parse_task"]
@@ -267,17 +267,10 @@ class _Builder:
                 )
         if not liaisons or any(op.father == tuple(self.parts) for op in ops):
             return
-        group = {p: {p} for p in self.parts}
-        for lia in liaisons:
-            if group[lia.a] is not group[lia.b]:
-                merged = group[lia.a] | group[lia.b]
-                for p in merged:
-                    group[p] = merged
-        groups = list({id(g): g for g in group.values()}.values())
+        groups = liaison_groups(self.parts, liaisons)
         if len(groups) > 1:
-            text = " ".join(format_parts([p for p in self.parts if p in g]) for g in groups)
             raise InfeasiblePlanError(
-                f"no feasible plan: the liaisons leave the parts in unconnected groups {text} and no "
-                "operation joins the full assembly",
+                f"no feasible plan: the liaisons leave the parts in unconnected groups "
+                f"{' '.join(format_parts(g) for g in groups)} and no operation joins the full assembly",
                 where=self.at("liaisons"),
             )
