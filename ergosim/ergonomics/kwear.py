@@ -71,16 +71,22 @@ def kwear_step(v, g, dt: float, params: KWearParams, resting=False,
     unchanged. Returns the new (m,) V (written into ``out`` if given; ``out`` may be ``v``).
     """
     v = np.asarray(v, dtype=float)
-    g = np.abs(np.asarray(g, dtype=float))
     if not dt >= 0:  # also rejects NaN, which would poison V
         raise ValueError(f"dt must be >= 0 s, got {dt}")
     k = dt / params.C
-    if np.ndim(resting) == 0 and resting:
+    if resting is True or (resting is not False and np.ndim(resting) == 0 and resting):
         return np.multiply(v, math.exp(-params.r * k), out=out)
+    x = np.abs(np.asarray(g, dtype=float))
+    x *= -k
+    finite = bool(np.isfinite(x).all())
+    bad = None if finite else ~np.isfinite(x)  # dropouts: rare, so the mask is built only when needed
+    np.expm1(x, out=x)
     # V + (1 - V)(1 - e^-x) written with expm1: exact at x = 0 and accurate for the short ticks used.
-    wear = v - (1.0 - v) * np.expm1(-g * k)
-    res = np.where(np.isfinite(g), np.minimum(wear, V_CEIL), v)
-    if np.ndim(resting) > 0:
+    res = v - (1.0 - v) * x
+    np.minimum(res, V_CEIL, out=res)
+    if bad is not None:
+        res = np.where(bad, v, res)
+    if resting is not False and np.ndim(resting) > 0:
         res = np.where(np.asarray(resting, dtype=bool), v * math.exp(-params.r * k), res)
     if out is None:
         return res
