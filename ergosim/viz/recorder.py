@@ -1,0 +1,224 @@
+"""TwinRecorder: what the twin loop logs to rerun, in batches of ticks and at each allocation decision.
+
+History goes in columns (``send_columns``): one call per entity per batch, never one per tick. Each batch
+is indexed on the ``sim_time`` timeline (seconds of simulated time) and the ``repetition`` sequence.
+Non-finite samples (motion-capture dropouts) are left out of the series, so a plot shows a gap in the
+samples rather than a made-up value. A recorder built without a stream is a no-op, so the loop calls it
+unconditionally.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+
+import mujoco
+import numpy as np
+import rerun as rr
+
+from ergosim.posture import ANGLE_NAMES, KWEAR_JOINTS
+from ergosim.twin.records import RULA_PARTS
+from ergosim.viz import paths, styles
+from ergosim.viz.geometry import SceneBody, scene_bodies
+from ergosim.viz.paths import join
+from ergosim.viz.quat import wxyz_to_xyzw
+from ergosim.viz.scene import log_scene
+
+__all__ = ["TwinRecorder"]
+
+_M = len(KWEAR_JOINTS)
+
+
+class TwinRecorder:
+    """Logs one twin run. ``stream`` None gives a recorder whose methods do nothing (``enabled`` False).
+
+    ``on_close(commit)`` runs after the stream is flushed and disconnected, e.g. to move a finished .rrd
+    file into place (commit True) or drop it (commit False, an exception inside a ``with`` block).
+    """
+
+    def __init__(self, stream: rr.RecordingStream | None = None, *,
+                 on_close: Callable[[bool], None] | None = None) -> None:
+        self._stream = stream
+        self._on_close = on_close
+        if stream is not None:
+            # only simulated time means anything here; wall-clock log_time would make recordings differ
+            stream.set_log_time_enabled(False)
+            stream.set_log_tick_enabled(False)
+        self._bodies: tuple[SceneBody, ...] = ()
+        self._v_th = np.full(_M, np.nan)
+        self._tick_index: tuple[tuple[str, ...], list[tuple[int, str]]] = ((), [])
+        self._styled: set[str] = set()
+
+    @property
+    def enabled(self) -> bool:
+        return self._stream is not None
+
+    @property
+    def body_entities(self) -> dict[str, str]:
+        """Body name -> entity path, as set by :meth:`log_static`."""
+        return {b.name: b.entity for b in self._bodies}
+
+    # -- once -----------------------------------------------------------------------------------------------
+    def log_static(self, model: mujoco.MjModel, *, v_th: np.ndarray, body_groups: Mapping[str, str]) -> None:
+        """Scene geometry, series styles and the KWear thresholds ``v_th`` (5,) in KWEAR_JOINTS order.
+
+        ``body_groups``: body name -> robot | human | parts | scene (bodies left out are scene).
+        """
+        v_th = np.asarray(v_th, dtype=float)
+        if v_th.shape != (_M,):
+            raise ValueError(f"v_th must have shape ({_M},), got {v_th.shape}")
+        self._v_th = v_th.copy()
+        self._bodies = scene_bodies(model, body_groups)
+        if self._stream is None:
+            return
+        s = self._stream
+        s.log(paths.WORLD, rr.ViewCoordinates.RIGHT_HAND_Z_UP, static=True)
+        log_scene(s, self._bodies)
+        for joint in KWEAR_JOINTS:
+            s.log(join(paths.KWEAR, joint), styles.kwear_style(joint), static=True)
+            s.log(join(paths.KWEAR_THRESHOLD, joint), styles.threshold_style(joint), static=True)
+            s.log(join(paths.V_NOW, joint), styles.decision_style(f"V {joint}", styles.JOINT_COLORS[joint]),
+                  static=True)
+        for part in (*RULA_PARTS, "grand"):
+            s.log(join(paths.RULA, part), styles.rula_style(part), static=True)
+        for name in ANGLE_NAMES:
+            s.log(join(paths.ANGLES, name), styles.angle_style(name), static=True)
+
+    # -- per batch of ticks ---------------------------------------------------------------------------------
+    def log_ticks(self, repetition: int, sim_time: np.ndarray, body_pos: np.ndarray,
+                  body_quat_wxyz: np.ndarray, body_names: Sequence[str], angles: np.ndarray,
+                  rula_parts: np.ndarray, rula_grand: np.ndarray, kwear: np.ndarray) -> None:
+        """A batch of n ticks of one repetition.
+
+        ``sim_time`` (n,) [s]; ``body_pos`` (n, b, 3) world frame [m]; ``body_quat_wxyz`` (n, b, 4) world
+        frame, MuJoCo order; ``body_names`` (b,) names the columns; ``angles`` (n, 14) [deg] in ANGLE_NAMES
+        order; ``rula_parts`` (n, 7) in RULA_PARTS order; ``rula_grand`` (n,); ``kwear`` (n, 5) in
+        KWEAR_JOINTS order.
+        """
+        if self._stream is None:
+            return
+        t = np.asarray(sim_time, dtype=float)
+        n = t.shape[0]
+        nb = len(body_names)
+        pos = np.asarray(body_pos, dtype=np.float32)
+        _check("body_pos", pos, (n, nb, 3))
+        _check("body_quat_wxyz", np.asarray(body_quat_wxyz), (n, nb, 4))
+        series = (
+            (paths.ANGLES, ANGLE_NAMES, _checked("angles", angles, (n, len(ANGLE_NAMES)))),
+            (paths.RULA, RULA_PARTS, _checked("rula_parts", rula_parts, (n, len(RULA_PARTS)))),
+            (paths.RULA, ("grand",), _checked("rula_grand", rula_grand, (n,))[:, None]),
+            (paths.KWEAR, KWEAR_JOINTS, _checked("kwear", kwear, (n, _M))),
+        )
+        if n == 0:
+            return
+        batch = _Batch(self._stream, t, int(repetition))
+        quat = wxyz_to_xyzw(body_quat_wxyz)
+        finite = np.isfinite(pos).all(axis=-1) & np.isfinite(quat).all(axis=-1)
+        for col, entity in self._moving_bodies(tuple(body_names)):
+            rows = finite[:, col]
+            columns = rr.Transform3D.columns(translation=pos[rows, col], quaternion=quat[rows, col])
+            batch.send(entity, rows, columns)
+        for prefix, names, values in series:
+            ok = np.isfinite(values)
+            for j, name in enumerate(names):
+                rows = ok[:, j]
+                batch.send(join(prefix, name), rows, rr.Scalars.columns(scalars=values[rows, j]))
+        # the threshold as a straight line over the batch's time span
+        ends = np.array([0, n - 1])
+        for j, joint in enumerate(KWEAR_JOINTS):
+            self._stream.send_columns(join(paths.KWEAR_THRESHOLD, joint), indexes=batch.indexes(ends),
+                                      columns=rr.Scalars.columns(scalars=np.full(2, self._v_th[j])))
+
+    def _moving_bodies(self, body_names: tuple[str, ...]) -> list[tuple[int, str]]:
+        """(column, entity) of the bodies whose pose is logged per tick (world-welded ones are static)."""
+        if self._tick_index[0] != body_names:
+            if not self._bodies:
+                raise RuntimeError("log_static must be called before log_ticks")
+            known = {b.name: b for b in self._bodies}
+            missing = [n for n in body_names if n not in known]
+            if missing:
+                raise ValueError(f"log_ticks got bodies the model does not have: {', '.join(missing)}")
+            index = [(c, known[n].entity) for c, n in enumerate(body_names) if known[n].static_pose is None]
+            self._tick_index = (body_names, index)
+        return self._tick_index[1]
+
+    # -- per decision ---------------------------------------------------------------------------------------
+    def log_decision(self, sim_time: float, repetition: int, v_now: np.ndarray,
+                     v_hat: Mapping[str, np.ndarray], costs: Mapping[tuple[str, str], float],
+                     chosen: tuple[str, str], reason: str) -> None:
+        """One allocation decision at ``sim_time`` [s]: V(t_k) ``v_now`` (5,), the predicted V̂(t_k+1) per
+        candidate action ``v_hat`` (action -> (5,)), the candidates' hyper-arc ``costs`` ((action, agent)
+        -> cost), and the ``chosen`` (action, agent) with the ``reason`` (see :func:`allocation_reason`)."""
+        if self._stream is None:
+            return
+        s = self._stream
+        s.set_time(paths.SIM_TIME, duration=float(sim_time))
+        s.set_time(paths.REPETITION, sequence=int(repetition))
+        try:
+            action, agent = chosen
+            s.log(paths.ALLOCATION_LOG, rr.TextLog(reason, level="INFO", color=styles.agent_color(agent)))
+            for j, joint in enumerate(KWEAR_JOINTS):
+                s.log(join(paths.V_NOW, joint), rr.Scalars(float(v_now[j])))
+            for act, values in v_hat.items():
+                for j, joint in enumerate(KWEAR_JOINTS):
+                    entity = join(paths.V_HAT, act, joint)
+                    self._style(entity, f"{act} {joint}", styles.JOINT_COLORS[joint])
+                    s.log(entity, rr.Scalars(float(values[j])))
+            for (act, ag), cost in costs.items():
+                entity = join(paths.COSTS, act, ag)
+                self._style(entity, f"{act} {ag}", styles.agent_color(ag))
+                s.log(entity, rr.Scalars(float(cost)))
+        finally:
+            s.reset_time()
+
+    def _style(self, entity: str, name: str, color: tuple[int, int, int]) -> None:
+        if entity not in self._styled:
+            self._styled.add(entity)
+            self._stream.log(entity, styles.decision_style(name, color), static=True)
+
+    # -- end ------------------------------------------------------------------------------------------------
+    def close(self, *, commit: bool = True) -> None:
+        """Flush and close every sink; an .rrd file is complete under its final name when this returns."""
+        stream, self._stream = self._stream, None
+        if stream is not None:
+            stream.flush()
+            stream.disconnect()
+        if self._on_close is not None:
+            on_close, self._on_close = self._on_close, None
+            on_close(commit)
+
+    def __enter__(self) -> TwinRecorder:
+        return self
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        self.close(commit=exc_type is None)
+
+
+class _Batch:
+    """Time columns of one batch, built once and shared by every entity with no missing sample."""
+
+    def __init__(self, stream: rr.RecordingStream, t: np.ndarray, repetition: int) -> None:
+        self._stream = stream
+        self._t = t
+        self._rep = np.full(t.shape[0], repetition, dtype=np.int64)
+        self._all = self.indexes(slice(None))
+
+    def indexes(self, rows: np.ndarray | slice) -> list[rr.TimeColumn]:
+        return [rr.TimeColumn(paths.SIM_TIME, duration=self._t[rows]),
+                rr.TimeColumn(paths.REPETITION, sequence=self._rep[rows])]
+
+    def send(self, entity: str, rows: np.ndarray, columns: rr.ComponentColumnList) -> None:
+        if rows.all():
+            self._stream.send_columns(entity, indexes=self._all, columns=columns)
+        elif rows.any():
+            self._stream.send_columns(entity, indexes=self.indexes(rows), columns=columns)
+
+
+def _checked(name: str, values: np.ndarray, shape: tuple[int, ...]) -> np.ndarray:
+    array = np.asarray(values, dtype=float)
+    _check(name, array, shape)
+    return array
+
+
+def _check(name: str, array: np.ndarray, shape: tuple[int, ...]) -> None:
+    if array.shape != shape:
+        raise ValueError(f"{name} must have shape {shape}, got {array.shape}")

@@ -1,0 +1,58 @@
+"""Names and colours of the plotted series, so every panel and every recording looks the same."""
+
+from __future__ import annotations
+
+import rerun as rr
+
+from ergosim.posture import ANGLE_NAMES, KWEAR_JOINTS
+from ergosim.twin.records import RULA_PARTS
+
+__all__ = ["PALETTE", "JOINT_COLORS", "RULA_COLORS", "ANGLE_COLORS", "AGENT_COLORS", "agent_color",
+           "kwear_style", "threshold_style", "rula_style", "angle_style", "decision_style"]
+
+Color = tuple[int, int, int]
+
+PALETTE: tuple[Color, ...] = (
+    (31, 119, 180), (255, 127, 14), (44, 160, 44), (214, 39, 40), (148, 103, 189),
+    (140, 86, 75), (227, 119, 194), (127, 127, 127), (188, 189, 34), (23, 190, 207),
+)
+"""Ten distinguishable colours (matplotlib's tab10), cycled."""
+
+JOINT_COLORS: dict[str, Color] = {j: PALETTE[i] for i, j in enumerate(KWEAR_JOINTS)}
+RULA_COLORS: dict[str, Color] = {p: PALETTE[i % len(PALETTE)] for i, p in enumerate(RULA_PARTS)}
+RULA_COLORS["grand"] = (20, 20, 20)
+ANGLE_COLORS: dict[str, Color] = {n: PALETTE[i % len(PALETTE)] for i, n in enumerate(ANGLE_NAMES)}
+AGENT_COLORS: dict[str, Color] = {"human": (31, 119, 180), "robot": (214, 39, 40)}
+
+
+def agent_color(agent: str) -> Color:
+    """Blue for a human, red for a robot (by name or kind), grey for anything else."""
+    for kind, color in AGENT_COLORS.items():
+        if kind in agent.lower():
+            return color
+    return PALETTE[7]
+
+
+def kwear_style(joint: str) -> rr.SeriesLines:
+    return rr.SeriesLines(colors=[JOINT_COLORS[joint]], names=[joint], widths=[2.0])
+
+
+def threshold_style(joint: str) -> rr.SeriesLines:
+    """The V_th line: the joint's colour, faded and thin."""
+    return rr.SeriesLines(colors=[(*JOINT_COLORS[joint], 140)], names=[f"V_th {joint}"], widths=[1.0])
+
+
+def rula_style(part: str) -> rr.SeriesLines:
+    """RULA scores are integers held between ticks: drawn as steps."""
+    width = 3.0 if part == "grand" else 1.5
+    return rr.SeriesLines(colors=[RULA_COLORS[part]], names=[part], widths=[width],
+                          interpolation_mode="StepAfter")
+
+
+def angle_style(name: str) -> rr.SeriesLines:
+    return rr.SeriesLines(colors=[ANGLE_COLORS[name]], names=[f"{name} [deg]"], widths=[1.5])
+
+
+def decision_style(name: str, color: Color) -> rr.SeriesPoints:
+    """Decisions are instants, not signals: points, not lines."""
+    return rr.SeriesPoints(colors=[color], names=[name], markers=["circle"], marker_sizes=[4.0])
