@@ -1,65 +1,70 @@
 """Calibrating a subject in a scene (paper §5): recorded executions of every action, from zero wear.
 
-Each calibration pass is the worker doing the whole task alone, in the task's fixed order, in the real
-workcell (physics on, so the parts end up where the previous action put them: J is on the bench before L
-is inserted). For each action, the measured RULA part scores G_i of its acting ticks are one execution;
-its coefficient α = exp(-∫G/C) is V after the action from zero wear (eq. 4, 9). Passes are recorded lazily,
-as many as the adaptive-η procedure of :func:`ergosim.ergonomics.calibration.calibrate` asks for.
+A calibration pass is the worker doing the whole task alone, in the task's fixed order, in the subject's
+workcell. Each action's motion is planned from the scene's current geometry and measured by the mocap
+stream exactly as in the loop (noise, dropouts, RULA per frame); its G_i at the ergonomics rate is one
+execution, whose coefficient is α = exp(-∫G/C), i.e. V after the action from zero wear (eq. 4, 9). The
+part is then put where the action leaves it (placed on its target, or seated in its hollow), so the next
+action sees the right scene: postures depend on where things are, not on how the part got there, so the
+passes skip the physics. Passes are recorded lazily, as many as the adaptive-η procedure of
+:func:`ergosim.ergonomics.calibration.calibrate` asks for.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 
+import mujoco
 import numpy as np
 
 from ergosim.ergonomics.calibration import Calibration, Execution, calibrate
 from ergosim.ergonomics.kwear import KWearParams
-from ergosim.posture import KWEAR_JOINTS
-from ergosim.twin.records import TICK_COLUMNS
+from ergosim.twin.worker_track import WorkerTrack
 
-__all__ = ["SceneCalibration", "G_COLUMNS"]
+__all__ = ["SceneCalibration", "put_part"]
 
-G_COLUMNS = tuple(
-    TICK_COLUMNS.index(f"rula_{p}") for p in ("upper_arm", "lower_arm", "wrist", "trunk", "neck")
-)
-"""Tick-log columns holding G_i in KWEAR_JOINTS order (shoulder=upper arm, elbow=lower arm, ...)."""
-_GRAND = TICK_COLUMNS.index("rula_grand")
-_ACTING = TICK_COLUMNS.index("acting")
-_T = TICK_COLUMNS.index("t")
-assert len(G_COLUMNS) == len(KWEAR_JOINTS)
+
+def put_part(cell, part: str, pos: np.ndarray, quat: np.ndarray) -> None:
+    """Set free body ``part`` at the world pose (pos (3,) [m], quat wxyz), at rest, and update kinematics."""
+    m, d = cell.model, cell.data
+    jnt = m.body_jntadr[m.body(part).id]
+    qa, va = m.jnt_qposadr[jnt], m.jnt_dofadr[jnt]
+    d.qpos[qa:qa + 3] = pos
+    d.qpos[qa + 3:qa + 7] = quat
+    d.qvel[va:va + 6] = 0.0
+    mujoco.mj_kinematics(m, d)
 
 
 class SceneCalibration:
-    """Records calibration passes with ``do_action(action) -> (t_start, t_end, ok)`` on a plant.
+    """Records calibration passes of ``actions`` (fixed order) for one worker in workcell ``cell``.
 
-    ``reset()`` lays the parts out again before each pass. ``log`` is the plant's tick log; executions are
-    cut from it by time.
+    ``tick_every``: mocap frames per ergonomics tick; ``dt_tick`` [s] the tick length.
     """
 
-    def __init__(self, actions: Sequence[str], do_action: Callable[[str], tuple[float, float, bool]],
-                 reset: Callable[[], None], log, dt_tick: float) -> None:
+    def __init__(self, actions: Sequence[str], cell, track: WorkerTrack, rng: np.random.Generator,
+                 tick_every: int, dt_tick: float) -> None:
         self.actions = tuple(actions)
-        self.do_action = do_action
-        self.reset = reset
-        self.log = log
-        self.dt_tick = dt_tick
+        self.cell = cell
+        self.track = track
+        self.rng = rng
+        self.tick_every = int(tick_every)
+        self.dt_tick = float(dt_tick)
         self.passes: list[dict[str, Execution]] = []
 
     def _record_pass(self) -> None:
-        self.reset()
+        cell, worker = self.cell, self.track.worker
+        cell.reset_parts()
         executions: dict[str, Execution] = {}
         for action in self.actions:
-            t0, t1, ok = self.do_action(action)
-            rows = self.log.rows
-            sel = (rows[:, _T] > t0 + 1e-9) & (rows[:, _T] <= t1 + 1e-9) & (rows[:, _ACTING] > 0.5)
-            g = rows[sel][:, G_COLUMNS]
-            if not ok or len(g) == 0:
-                from ergosim.errors import ErgosimError  # noqa: PLC0415
-
-                raise ErgosimError(f"the worker could not complete {action} during calibration pass "
-                                   f"{len(self.passes) + 1}", where="calibration")
-            executions[action] = Execution(g, self.dt_tick, rows[sel][:, _GRAND])
+            geom = cell.actions[action]
+            seg = self.track.start_action(worker.plan(cell, geom, self.rng, action=action))
+            ticks = np.arange(self.tick_every - 1, seg.n, self.tick_every)
+            executions[action] = Execution(seg.g[ticks], self.dt_tick, seg.grand[ticks])
+            pos, quat = cell.site_pose(geom.target)
+            put_part(cell, geom.part, pos, quat)
+            if geom.kind == "insert":
+                cell.seat(geom.part)
+        cell.reset_parts()
         self.passes.append(executions)
 
     def execute(self, action: str, l: int) -> Execution:  # noqa: E741 - the paper's index
@@ -69,7 +74,3 @@ class SceneCalibration:
 
     def run(self, params: KWearParams, *, eta0: int, eta_max: int, v_des: float) -> Calibration:
         return calibrate(self.actions, self.execute, params, eta0=eta0, eta_max=eta_max, v_des=v_des)
-
-
-def alpha_table(cal: Calibration) -> dict[str, list[float]]:
-    return {a: [float(x) for x in np.asarray(c.alpha)] for a, c in cal.actions.items()}

@@ -14,7 +14,7 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
-from ergosim.ergonomics.kwear import kwear_step
+from ergosim.ergonomics.risk_index import KWearIndex
 from ergosim.posture import KWEAR_JOINTS
 from ergosim.twin.records import TICK_COLUMNS, TickLog
 from ergosim.twin.worker_track import WorkerTrack
@@ -29,33 +29,31 @@ class Plant:
 
     ``mocap_rate`` [Hz] is the control tick; physics takes ``n_sub`` MuJoCo steps per control tick with the
     timestep adjusted so the two clocks agree exactly; the ergonomics tick runs every ``tick_every`` control
-    ticks. ``robot`` is any object with ``step(plant) -> None`` called once per control tick (or None).
+    ticks. ``robot`` (a :class:`~ergosim.twin.robot_track.RobotTrack` or None) steps the physics itself while
+    one of its skills is active.
     """
 
-    def __init__(self, cell, track: WorkerTrack, human, kwear_params, *, mocap_rate: float,
+    def __init__(self, cell, track: WorkerTrack, human, kwear: KWearIndex, *, mocap_rate: float,
                  ergonomics_rate: float, physics_dt: float, record_bodies: bool = False) -> None:
         self.cell = cell
         self.model: mujoco.MjModel = cell.model
         self.data: mujoco.MjData = cell.data
         self.track = track
         self.human = human
-        self.params = kwear_params
+        self.kwear = kwear
         self.dt_control = 1.0 / mocap_rate
         self.n_sub = max(1, int(round(self.dt_control / physics_dt)))
         self.model.opt.timestep = self.dt_control / self.n_sub
         self.tick_every = int(round(mocap_rate / ergonomics_rate))
         self.dt_tick = self.tick_every * self.dt_control
         self.ticks = 0  # control ticks since the start
-        self.v = np.zeros(_M)
         self.repetition = 0
         self.log = TickLog()
-        self.dropouts = 0
         self.robot = None
         self.on_grasp = None
         self.on_release = None
         self.frame_hook = None
         self._zero_g = np.zeros(_M)
-        self._last_g = np.full(_M, np.nan)
         self._row = np.empty(len(TICK_COLUMNS))
         self._qadr = np.asarray(human.qadr)
         self._dofadr = np.asarray(human.dofadr)
@@ -63,6 +61,15 @@ class Plant:
         self.body_pos: list[np.ndarray] = []
         self.body_quat: list[np.ndarray] = []
         self.tick_times: list[float] = []
+
+    @property
+    def v(self) -> np.ndarray:
+        """(5,) current KWear per joint (KWEAR_JOINTS order)."""
+        return self.kwear.value
+
+    @property
+    def dropouts(self) -> int:
+        return self.kwear.dropouts
 
     @property
     def time(self) -> float:
@@ -85,26 +92,24 @@ class Plant:
             self.on_release()
         if self.frame_hook is not None:
             self.frame_hook(k)
-        if self.robot is not None:
-            self.robot.step(self)
-        mujoco.mj_step(self.model, d, nstep=self.n_sub)
+        robot = self.robot
+        if robot is not None and robot.active:
+            robot.advance(self.model, d, self.n_sub)
+        else:
+            mujoco.mj_step(self.model, d, nstep=self.n_sub)
         self.ticks += 1
         if self.ticks % self.tick_every == 0:
             self._ergonomics_tick(seg, k)
 
     def _ergonomics_tick(self, seg, k: int) -> None:
-        """Paper eq. 3-5 over one ergonomics period; a dropout holds the last valid scores (never NaN)."""
+        """Paper eq. 3-5 over one ergonomics period: wear while acting, recovery while resting. A dropout
+        (NaN frame) is counted by the index and V holds, so NaN never reaches KWear."""
         g = seg.g[k]
         dropout = bool(np.isnan(g[0]))
-        if dropout:
-            self.dropouts += 1
         if seg.acting:
-            if not dropout:
-                self._last_g = g
-            if not np.isnan(self._last_g[0]):
-                self.v = kwear_step(self.v, self._last_g, self.dt_tick, self.params)
+            self.kwear.update(g, self.dt_tick)
         else:
-            self.v = kwear_step(self.v, self._zero_g, self.dt_tick, self.params, resting=True)
+            self.kwear.update(self._zero_g, self.dt_tick, resting=True)
         row = self._row
         row[0] = self.repetition
         row[1] = self.time
@@ -113,7 +118,7 @@ class Plant:
         row[4:18] = seg.measured[k]
         row[18:25] = seg.rula[k]
         row[25] = seg.grand[k]
-        row[26:31] = self.v
+        row[26:31] = self.kwear.value
         self.log.append(row)
         if self.record_bodies:
             self.body_pos.append(self.data.xpos.copy())

@@ -39,7 +39,8 @@ class ScenarioConfig:
     rula_threshold_fraction: float = 0.8
     ergonomics_rate: float = 20.0
     mocap_rate: float = 60.0
-    physics_dt: float = 0.002
+    physics_dt: float = 1.0 / 240.0
+    """Nominal physics step [s]; the loop uses mocap period / round(mocap period / physics_dt)."""
     ee_speed: float = 0.05
     """Robot end-effector speed [m/s]; the paper's conservative 0.05 m/s."""
     eta0: int = 2

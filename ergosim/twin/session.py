@@ -103,9 +103,7 @@ class Session:
         grasp_part = cell.grasp_body(geom.part) if geom.kind == "remove" else geom.part
 
         def on_grasp() -> None:
-            if handover:
-                self.robot.hand_over(plant)
-            cell.grasp(self.hand, grasp_part)
+            cell.grasp(self.hand, grasp_part)  # at a handover the robot sees this and lets go
 
         def on_release() -> None:
             cell.release(self.hand, grasp_part)
@@ -164,13 +162,14 @@ class Session:
                 self.recorder.log_decision_event(decision, alloc)
             geom = self.cell.actions[decision.action]
             if decision.agent == alloc.human:
+                plant.kwear.start_action(decision.action)
                 out = self._worker_action(geom)
+                plant.kwear.finish_action()  # the online α update of §5, when enabled
             else:
                 out = self._robot_action(geom)
             if out.ok:
                 done.append(decision.operation)
                 pruned.clear()
-                alloc.observe(decision, plant)
             else:
                 # Paper §2.2: a robot that cannot do an action loses its hyper-arc for this attempt and the
                 # planner re-plans without it; the worker retries from wherever the part now lies.

@@ -1,0 +1,86 @@
+"""The robot's side of the loop: dispatch an action to a Panda skill and step it with the physics.
+
+A robot action is :class:`~ergosim.robot.skills.PickPlace` (the robot puts the part on its target, or
+seats a profile along its hollow's axis) or, where the scene defines a handover site (paper §7.2),
+:class:`~ergosim.robot.skills.Handover`: the robot brings the part to the pre-planned handover pose and
+waits until the worker's hand holds it. Skills set the controls one physics step at a time, so while a
+skill runs the plant steps MuJoCo one step per skill step.
+"""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+
+from ergosim.robot.kinematics import PandaKinematics
+from ergosim.robot.skills import Handover, PickPlace, SkillParams
+from ergosim.robot.status import SkillResult
+from ergosim.robot.trajectory import MotionLimits
+
+__all__ = ["RobotTrack"]
+
+
+class RobotTrack:
+    """One Panda in one workcell. ``ee_speed`` [m/s]: end-effector speed (the paper's conservative 0.05)."""
+
+    def __init__(self, cell, ee_speed: float = 0.05) -> None:
+        self.cell = cell
+        self.kin = PandaKinematics()
+        self.params = SkillParams(limits=MotionLimits(speed=ee_speed))
+        self.skill = None
+        self.result: SkillResult | None = None
+        self.waiting = False
+
+    @property
+    def active(self) -> bool:
+        return self.skill is not None and self.result is None
+
+    @property
+    def done(self) -> bool:
+        return not self.active
+
+    @property
+    def ok(self) -> bool:
+        return self.result is not None and self.result.ok
+
+    @property
+    def status_name(self) -> str:
+        return "idle" if self.result is None else self.result.status.value
+
+    @property
+    def message(self) -> str:
+        return "" if self.result is None else self.result.message
+
+    def start(self, geom, plant=None) -> None:
+        """Dispatch ``geom`` (an :class:`~ergosim.scenes.workcell.ActionGeometry`) to the matching skill."""
+        cell = self.cell
+        self.result, self.waiting = None, False
+        if geom.handover is not None:
+            pos, quat = cell.site_pose(geom.handover)
+            self.skill = Handover(cell, geom.part, pos, quat, taken=self._taken(geom.part), kin=self.kin,
+                                  params=self.params)
+            return
+        pos, quat = cell.site_pose(geom.target)
+        approach = None
+        if geom.kind == "insert":
+            rot = np.empty(9)
+            mujoco.mju_quat2Mat(rot, quat)
+            approach = rot.reshape(3, 3)[:, 0]  # the profile slides in along its hollow's axis
+        self.skill = PickPlace(cell, geom.part, pos, quat, approach=approach, seat=geom.kind == "insert",
+                               kin=self.kin, params=self.params)
+
+    def _taken(self, part: str):
+        def taken(wc) -> bool:
+            self.waiting = True  # called only once the part is at the handover pose
+            return any(wc.is_held(h, part) for h in wc.holders if h != "robot")
+        return taken
+
+    def advance(self, model: mujoco.MjModel, data: mujoco.MjData, n: int) -> None:
+        """``n`` physics steps, the skill setting the controls before each."""
+        skill = self.skill
+        for _ in range(n):
+            if self.result is None:
+                res = skill.step(data)
+                if res is not None:
+                    self.result = res
+            mujoco.mj_step(model, data)
