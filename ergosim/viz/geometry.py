@@ -44,8 +44,10 @@ class Visual:
     place the geom (for a file mesh: the file's frame) in the body frame. ``size`` (3,) is MuJoCo's
     ``geom_size`` [m] (radius, half-length / half-extents). ``rgba`` (4,) in 0..1. A mesh has either
     ``mesh_file`` (+ ``scale`` (3,)) or ``vertices`` (v, 3) [m] and ``faces`` (f, 3) int in the geom frame.
+    ``geom`` is the MuJoCo geom id.
     """
 
+    geom: int
     name: str
     kind: str
     pos: np.ndarray
@@ -108,7 +110,10 @@ def scene_bodies(model: mujoco.MjModel, body_groups: Mapping[str, str],
     for g in range(model.ngeom):
         visual = _visual(model, g, groups)
         if visual is not None:
-            by_body[model.geom_bodyid[g]].append(visual)
+            siblings = by_body[model.geom_bodyid[g]]
+            if any(v.name == visual.name for v in siblings):  # names become entity paths: keep them unique
+                visual = dataclasses.replace(visual, name=f"{visual.name}_{g}")
+            siblings.append(visual)
     bodies, seen = [], {}
     for b, name in enumerate(names):
         group = body_groups.get(name, "scene")
@@ -128,11 +133,14 @@ def _visual(model: mujoco.MjModel, g: int, groups: tuple[int, ...]) -> Visual | 
     rgba = _rgba(model, g)
     if kind is None or model.geom_group[g] not in groups or rgba[3] <= 0.0:
         return None
-    name = model.geom(g).name or f"geom{g}"
+    name = model.geom(g).name
+    if not name and kind == "mesh":
+        name = model.mesh(model.geom_dataid[g]).name
+    name = name or f"geom{g}"
     pos, quat = model.geom_pos[g].copy(), model.geom_quat[g].copy()
     size = model.geom_size[g].copy()
     if kind != "mesh":
-        return Visual(name, kind, pos, quat, size, rgba)
+        return Visual(g, name, kind, pos, quat, size, rgba)
     m = model.geom_dataid[g]
     path = _mesh_path(model, m)
     if path is not None:
@@ -144,11 +152,11 @@ def _visual(model: mujoco.MjModel, g: int, groups: tuple[int, ...]) -> Visual | 
         file_pos, file_quat = np.empty(3), np.empty(4)
         mujoco.mju_rotVecQuat(file_pos, offset, quat)
         mujoco.mju_mulQuat(file_quat, quat, inv)
-        return Visual(name, kind, pos + file_pos, file_quat, size, rgba, mesh_file=path,
+        return Visual(g, name, kind, pos + file_pos, file_quat, size, rgba, mesh_file=path,
                       scale=model.mesh_scale[m].copy())
     v0, nv = model.mesh_vertadr[m], model.mesh_vertnum[m]
     f0, nf = model.mesh_faceadr[m], model.mesh_facenum[m]
-    return Visual(name, kind, pos, quat, size, rgba, vertices=model.mesh_vert[v0:v0 + nv].copy(),
+    return Visual(g, name, kind, pos, quat, size, rgba, vertices=model.mesh_vert[v0:v0 + nv].copy(),
                   faces=model.mesh_face[f0:f0 + nf].copy())
 
 
