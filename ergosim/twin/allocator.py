@@ -16,7 +16,7 @@ import numpy as np
 from ergosim.ergonomics.cost import CostParams, risk_costs
 from ergosim.ergonomics.risk_index import RiskIndex
 from ergosim.planner import AndOrGraph
-from ergosim.posture import KWEAR_JOINTS
+from ergosim.viz.reason import allocation_reason
 
 __all__ = ["Decision", "Allocator"]
 
@@ -114,5 +114,5 @@ class Allocator:
             g_max = self.index.g_max
             return (f"{action} → {agent}: RULA G={vh[0] * g_max:g} {rel} G_th {th * g_max:g}"
                     f" (human cost {hc:.2f}, robot cost {rc:.2f})")
-        return (f"{action} → {agent}: predicted {KWEAR_JOINTS[i]} KWear {vh[i]:.2f} {rel} V_th {th:g}"
-                f" (human cost {hc:.2f}, robot cost {rc:.2f})")
+        return allocation_reason((action, agent), v_hat=v_hat, costs=costs,
+                                 v_th=np.broadcast_to(np.asarray(self.cost.v_th, dtype=float), vh.shape))

@@ -88,6 +88,10 @@ class SubjectRun:
     v_th: float
     failures: list[str] = dataclasses.field(default_factory=list)
     calibration_eta: dict[str, int] = dataclasses.field(default_factory=dict)
+    decisions: list = dataclasses.field(default_factory=list)
+    """The allocator's decisions (ergosim.twin.allocator.Decision), in order."""
+    bodies: tuple[np.ndarray, np.ndarray] | None = None
+    """When recorded: body positions (n, nbody, 3) [m] and quaternions (n, nbody, 4) wxyz per tick row."""
 
     @property
     def kwear_integral(self) -> float:

@@ -14,7 +14,6 @@ import numpy as np
 from ergosim.ergonomics.cost import CostParams, rula_baseline_params
 from ergosim.ergonomics.kwear import kwear_trajectory
 from ergosim.ergonomics.risk_index import KWearIndex, StaticRulaIndex
-from ergosim.errors import ErgosimError
 from ergosim.human.model import HumanModel
 from ergosim.planner import corner_joint_task
 from ergosim.posture import KWEAR_JOINTS
@@ -121,8 +120,11 @@ def make_allocator(cfg: ScenarioConfig, mode: str, rig: Rig, calibration) -> All
 
 
 def run_subject(cfg: ScenarioConfig, index: int, seed: int, modes: tuple[str, ...],
-                scene_overrides: Mapping[str, str] | None = None, recorder=None) -> SubjectResult:
-    """Calibrate subject ``index`` of ``seed``'s population, then run each mode from zero wear."""
+                scene_overrides: Mapping[str, str] | None = None,
+                record_mode: str | None = None) -> SubjectResult:
+    """Calibrate subject ``index`` of ``seed``'s population, then run each mode from zero wear.
+
+    ``record_mode``: keep body poses per tick for that mode's run (for the rerun recording)."""
     scene_overrides = dict(scene_overrides or {})
     subject = make_subjects(index + 1, seed)[index]
     seqs = np.random.SeedSequence([seed, index]).spawn(1 + len(modes))
@@ -130,17 +132,12 @@ def run_subject(cfg: ScenarioConfig, index: int, seed: int, modes: tuple[str, ..
     runs: dict[str, SubjectRun] = {}
     for mode, seq in zip(modes, seqs[1:], strict=True):
         rng = np.random.default_rng(seq)
-        rig = build_rig(cfg, subject, rng, scene_overrides, record_bodies=recorder is not None,
+        rig = build_rig(cfg, subject, rng, scene_overrides, record_bodies=mode == record_mode,
                         alphas=calibration.alphas)
         allocator = make_allocator(cfg, mode, rig, calibration)
         session = Session(cfg=cfg, mode=mode, subject_index=index, worker=rig.worker, plant=rig.plant,
-                          robot=rig.robot, allocator=allocator, rng=rng, recorder=recorder)
-        if recorder is not None:
-            recorder.begin(rig, mode, index)
-        try:
-            runs[mode] = session.run(cfg.repetitions)
-        except ErgosimError:
-            raise
+                          robot=rig.robot, allocator=allocator, rng=rng)
+        runs[mode] = session.run(cfg.repetitions)
         runs[mode].calibration_eta = calibration.eta
     return SubjectResult(
         subject=index, name=subject.name, runs=runs, eta=calibration.eta,

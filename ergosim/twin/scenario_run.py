@@ -15,11 +15,14 @@ import time
 from collections.abc import Mapping
 from pathlib import Path
 
+from ergosim.scenes import build_scene
 from ergosim.twin.plots import write_plots
 from ergosim.twin.progress import Progress
+from ergosim.twin.recording import record_run
 from ergosim.twin.report import summarise, write_allocations, write_summary, write_ticks
 from ergosim.twin.runner import SubjectResult, run_subject
 from ergosim.twin.scenario import ScenarioConfig
+from ergosim.worker.subjects import make_subjects
 
 __all__ = ["run_scenario", "ScenarioResult"]
 
@@ -35,8 +38,8 @@ class ScenarioResult:
 
 
 def _job(args) -> SubjectResult:
-    cfg, index, seed, modes, overrides = args
-    return run_subject(cfg, index, seed, modes, overrides)
+    cfg, index, seed, modes, overrides, record_mode = args
+    return run_subject(cfg, index, seed, modes, overrides, record_mode=record_mode)
 
 
 def _write(out: Path, name: str, seed: int, cfg: ScenarioConfig, results: list[SubjectResult],
@@ -70,12 +73,19 @@ def _actions(results: list[SubjectResult]) -> list[str]:
 
 
 def run_scenario(name: str, cfg: ScenarioConfig, *, seed: int, out: Path, jobs: int | None = None,
-                 scene_overrides: Mapping[str, str] | None = None, progress: bool = True) -> ScenarioResult:
-    """Run ``cfg`` for ``cfg.subjects`` subjects and write summary.json, allocations.csv, ticks.csv, PNGs."""
+                 scene_overrides: Mapping[str, str] | None = None, progress: bool = True,
+                 recorder=None) -> ScenarioResult:
+    """Run ``cfg`` for ``cfg.subjects`` subjects and write summary.json, allocations.csv, ticks.csv, PNGs.
+
+    ``recorder`` (an enabled :class:`~ergosim.viz.TwinRecorder`): the first subject's run in the first mode
+    is logged to it (3-D workcell, joint angles, RULA, KWear, decisions) once the run is over.
+    """
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     jobs = max(1, min(jobs or os.cpu_count() or 1, cfg.subjects))
-    args = [(cfg, i, seed, tuple(cfg.modes), dict(scene_overrides or {})) for i in range(cfg.subjects)]
+    record_mode = cfg.modes[0] if recorder is not None and recorder.enabled else None
+    args = [(cfg, i, seed, tuple(cfg.modes), dict(scene_overrides or {}), record_mode if i == 0 else None)
+            for i in range(cfg.subjects)]
     bar = Progress(cfg.subjects, f"{name}: subjects", enabled=progress)
     results: list[SubjectResult] = []
     start = time.monotonic()
@@ -103,4 +113,10 @@ def run_scenario(name: str, cfg: ScenarioConfig, *, seed: int, out: Path, jobs: 
     finally:
         bar.close()
         summary = _write(out, name, seed, cfg, results, complete=complete, final=True) if results else {}
-    return ScenarioResult(sorted(results, key=lambda r: r.subject), summary, out, time.monotonic() - start)
+    results.sort(key=lambda r: r.subject)
+    if record_mode is not None and results and results[0].subject == 0:
+        first = results[0]
+        subject = make_subjects(1, seed)[0]
+        cell = build_scene(cfg.scene, **{"stature": subject.stature, **dict(scene_overrides or {})})
+        record_run(recorder, cell.model, first.runs[record_mode], cfg.v_th)
+    return ScenarioResult(results, summary, out, time.monotonic() - start)

@@ -38,7 +38,7 @@ class Session:
     """Runs ``repetitions`` of the task for one subject in one mode and returns a :class:`SubjectRun`."""
 
     def __init__(self, *, cfg, mode: str, subject_index: int, worker: Worker, plant: Plant, robot,
-                 allocator: Allocator, rng: np.random.Generator, recorder=None) -> None:
+                 allocator: Allocator, rng: np.random.Generator) -> None:
         self.cfg = cfg
         self.mode = mode
         self.subject_index = subject_index
@@ -48,7 +48,6 @@ class Session:
         self.robot = robot
         self.allocator = allocator
         self.rng = rng
-        self.recorder = recorder
         self.hand = f"human_{worker.side}"
         self.allocations: list[Allocation] = []
         self.failures: list[str] = []
@@ -158,8 +157,6 @@ class Session:
             if decision is None:
                 return True
             self.decisions.append(decision)
-            if self.recorder is not None:
-                self.recorder.log_decision_event(decision, alloc)
             geom = self.cell.actions[decision.action]
             if decision.agent == alloc.human:
                 plant.kwear.start_action(decision.action)
@@ -203,12 +200,13 @@ class Session:
             ok = self._repetition(rep)
             completed += int(ok)
             overruns += int(plant.time - start > cfg.takt)
-            if self.recorder is not None:
-                self.recorder.flush_repetition(plant, rep)
             if not ok:
                 break
+        bodies = None
+        if plant.record_bodies:
+            bodies = (np.array(plant.body_pos), np.array(plant.body_quat))
         return SubjectRun(
             subject=self.subject_index, mode=self.mode, allocations=self.allocations, ticks=plant.log,
             repetitions_completed=completed, takt_overruns=overruns, dt_tick=plant.dt_tick, v_th=cfg.v_th,
-            failures=self.failures,
+            failures=self.failures, decisions=self.decisions, bodies=bodies,
         )
