@@ -1,7 +1,9 @@
 """TwinRecorder: what the twin loop logs to rerun, in batches of ticks and at each allocation decision.
 
-History goes in columns (``send_columns``): one call per entity per batch, never one per tick. Each batch
-is indexed on the ``sim_time`` timeline (seconds of simulated time) and the ``repetition`` sequence.
+History goes in columns (``send_columns``): rows are buffered (:mod:`ergosim.viz.columns`) and sent with one
+call per entity every ``flush_ticks`` ticks and at close, never one call per tick, however the loop batches
+them. Every row is indexed on the ``sim_time`` timeline (seconds of simulated time) and the ``repetition``
+sequence.
 Non-finite samples (motion-capture dropouts) are left out of the series, so a plot shows a gap in the
 samples rather than a made-up value. A recorder built without a stream is a no-op, so the loop calls it
 unconditionally.
@@ -18,6 +20,7 @@ import rerun as rr
 from ergosim.posture import ANGLE_NAMES, KWEAR_JOINTS
 from ergosim.twin.records import RULA_PARTS
 from ergosim.viz import paths, styles
+from ergosim.viz.columns import ColumnBuffer
 from ergosim.viz.geometry import SceneBody, scene_bodies
 from ergosim.viz.paths import join
 from ergosim.viz.quat import wxyz_to_xyzw
@@ -36,8 +39,12 @@ class TwinRecorder:
     """
 
     def __init__(self, stream: rr.RecordingStream | None = None, *,
-                 on_close: Callable[[bool], None] | None = None) -> None:
+                 on_close: Callable[[bool], None] | None = None, flush_ticks: int = 1024) -> None:
         self._stream = stream
+        self.flush_ticks = flush_ticks
+        self._buffer = ColumnBuffer()
+        self._pending = 0
+        self._span: tuple[tuple[float, int], tuple[float, int]] | None = None
         self._on_close = on_close
         if stream is not None:
             # only simulated time means anything here; wall-clock log_time would make recordings differ
@@ -87,16 +94,16 @@ class TwinRecorder:
     def log_ticks(self, repetition: int, sim_time: np.ndarray, body_pos: np.ndarray,
                   body_quat_wxyz: np.ndarray, body_names: Sequence[str], angles: np.ndarray,
                   rula_parts: np.ndarray, rula_grand: np.ndarray, kwear: np.ndarray) -> None:
-        """A batch of n ticks of one repetition.
+        """A batch of n ticks of one repetition (copied: the caller may reuse its buffers).
 
         ``sim_time`` (n,) [s]; ``body_pos`` (n, b, 3) world frame [m]; ``body_quat_wxyz`` (n, b, 4) world
         frame, MuJoCo order; ``body_names`` (b,) names the columns; ``angles`` (n, 14) [deg] in ANGLE_NAMES
         order; ``rula_parts`` (n, 7) in RULA_PARTS order; ``rula_grand`` (n,); ``kwear`` (n, 5) in
-        KWEAR_JOINTS order.
+        KWEAR_JOINTS order. Rows are sent once ``flush_ticks`` have accumulated, and at :meth:`flush`.
         """
         if self._stream is None:
             return
-        t = np.asarray(sim_time, dtype=float)
+        t = np.array(sim_time, dtype=float)  # our copy: shared by every entity with no missing sample
         n = t.shape[0]
         nb = len(body_names)
         pos = np.asarray(body_pos, dtype=np.float32)
@@ -108,25 +115,30 @@ class TwinRecorder:
             (paths.RULA, ("grand",), _checked("rula_grand", rula_grand, (n,))[:, None]),
             (paths.KWEAR, KWEAR_JOINTS, _checked("kwear", kwear, (n, _M))),
         )
+        moving = self._moving_bodies(tuple(body_names))
         if n == 0:
             return
-        batch = _Batch(self._stream, t, int(repetition))
+        rep = np.full(n, int(repetition), dtype=np.int64)
         quat = wxyz_to_xyzw(body_quat_wxyz)
         finite = np.isfinite(pos).all(axis=-1) & np.isfinite(quat).all(axis=-1)
-        for col, entity in self._moving_bodies(tuple(body_names)):
-            rows = finite[:, col]
-            columns = rr.Transform3D.columns(translation=pos[rows, col], quaternion=quat[rows, col])
-            batch.send(entity, rows, columns)
+        buf = self._buffer
+        for col, entity in moving:
+            rows = finite[:, col]  # boolean indexing copies, so nothing aliases the caller's arrays
+            buf.poses(entity, *self._times(t, rep, rows), pos[rows, col], quat[rows, col])
         for prefix, names, values in series:
             ok = np.isfinite(values)
             for j, name in enumerate(names):
                 rows = ok[:, j]
-                batch.send(join(prefix, name), rows, rr.Scalars.columns(scalars=values[rows, j]))
-        # the threshold as a straight line over the batch's time span
-        ends = np.array([0, n - 1])
-        for j, joint in enumerate(KWEAR_JOINTS):
-            self._stream.send_columns(join(paths.KWEAR_THRESHOLD, joint), indexes=batch.indexes(ends),
-                                      columns=rr.Scalars.columns(scalars=np.full(2, self._v_th[j])))
+                buf.scalars(join(prefix, name), *self._times(t, rep, rows), values[rows, j])
+        first = self._span[0] if self._span else (t[0], rep[0])
+        self._span = (first, (t[-1], rep[-1]))
+        self._pending += n
+        if self._pending >= self.flush_ticks:
+            self.flush()
+
+    @staticmethod
+    def _times(t: np.ndarray, rep: np.ndarray, rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        return (t, rep) if rows.all() else (t[rows], rep[rows])
 
     def _moving_bodies(self, body_names: tuple[str, ...]) -> list[tuple[int, str]]:
         """(column, entity) of the bodies whose pose is logged per tick (world-welded ones are static)."""
@@ -147,37 +159,48 @@ class TwinRecorder:
                      chosen: tuple[str, str], reason: str) -> None:
         """One allocation decision at ``sim_time`` [s]: V(t_k) ``v_now`` (5,), the predicted V̂(t_k+1) per
         candidate action ``v_hat`` (action -> (5,)), the candidates' hyper-arc ``costs`` ((action, agent)
-        -> cost), and the ``chosen`` (action, agent) with the ``reason`` (see :func:`allocation_reason`)."""
+        -> cost), and the ``chosen`` (action, agent) with the ``reason`` (see :func:`allocation_reason`).
+        Sent with the next flush of ticks."""
         if self._stream is None:
             return
-        s = self._stream
-        s.set_time(paths.SIM_TIME, duration=float(sim_time))
-        s.set_time(paths.REPETITION, sequence=int(repetition))
-        try:
-            action, agent = chosen
-            s.log(paths.ALLOCATION_LOG, rr.TextLog(reason, level="INFO", color=styles.agent_color(agent)))
+        t, rep = np.array([float(sim_time)]), np.array([int(repetition)])
+        buf = self._buffer
+        color = styles.agent_color(chosen[1])
+        buf.text(paths.ALLOCATION_LOG, float(sim_time), int(repetition), reason, color)
+        for j, joint in enumerate(KWEAR_JOINTS):
+            buf.scalars(join(paths.V_NOW, joint), t, rep, np.array([float(v_now[j])]))
+        for action, values in v_hat.items():
             for j, joint in enumerate(KWEAR_JOINTS):
-                s.log(join(paths.V_NOW, joint), rr.Scalars(float(v_now[j])))
-            for act, values in v_hat.items():
-                for j, joint in enumerate(KWEAR_JOINTS):
-                    entity = join(paths.V_HAT, act, joint)
-                    self._style(entity, f"{act} {joint}", styles.JOINT_COLORS[joint])
-                    s.log(entity, rr.Scalars(float(values[j])))
-            for (act, ag), cost in costs.items():
-                entity = join(paths.COSTS, act, ag)
-                self._style(entity, f"{act} {ag}", styles.agent_color(ag))
-                s.log(entity, rr.Scalars(float(cost)))
-        finally:
-            s.reset_time()
+                entity = join(paths.V_HAT, action, joint)
+                self._style(entity, f"{action} {joint}", styles.JOINT_COLORS[joint])
+                buf.scalars(entity, t, rep, np.array([float(values[j])]))
+        for (action, agent), cost in costs.items():
+            entity = join(paths.COSTS, action, agent)
+            self._style(entity, f"{action} {agent}", styles.agent_color(agent))
+            buf.scalars(entity, t, rep, np.array([float(cost)]))
 
     def _style(self, entity: str, name: str, color: tuple[int, int, int]) -> None:
         if entity not in self._styled:
             self._styled.add(entity)
             self._stream.log(entity, styles.decision_style(name, color), static=True)
 
+    def flush(self) -> None:
+        """Send every buffered tick and decision now (the V_th lines span the flushed ticks)."""
+        if self._stream is None or not self._buffer:
+            return
+        if self._span:
+            (t0, r0), (t1, r1) = self._span
+            for j, joint in enumerate(KWEAR_JOINTS):
+                self._buffer.scalars(join(paths.KWEAR_THRESHOLD, joint), np.array([t0, t1]),
+                                     np.array([r0, r1]), np.full(2, self._v_th[j]))
+        self._buffer.send(self._stream)
+        self._span = None
+        self._pending = 0
+
     # -- end ------------------------------------------------------------------------------------------------
     def close(self, *, commit: bool = True) -> None:
         """Flush and close every sink; an .rrd file is complete under its final name when this returns."""
+        self.flush()
         stream, self._stream = self._stream, None
         if stream is not None:
             stream.flush()
@@ -191,26 +214,6 @@ class TwinRecorder:
 
     def __exit__(self, exc_type, exc, tb) -> None:
         self.close(commit=exc_type is None)
-
-
-class _Batch:
-    """Time columns of one batch, built once and shared by every entity with no missing sample."""
-
-    def __init__(self, stream: rr.RecordingStream, t: np.ndarray, repetition: int) -> None:
-        self._stream = stream
-        self._t = t
-        self._rep = np.full(t.shape[0], repetition, dtype=np.int64)
-        self._all = self.indexes(slice(None))
-
-    def indexes(self, rows: np.ndarray | slice) -> list[rr.TimeColumn]:
-        return [rr.TimeColumn(paths.SIM_TIME, duration=self._t[rows]),
-                rr.TimeColumn(paths.REPETITION, sequence=self._rep[rows])]
-
-    def send(self, entity: str, rows: np.ndarray, columns: rr.ComponentColumnList) -> None:
-        if rows.all():
-            self._stream.send_columns(entity, indexes=self._all, columns=columns)
-        elif rows.any():
-            self._stream.send_columns(entity, indexes=self.indexes(rows), columns=columns)
 
 
 def _checked(name: str, values: np.ndarray, shape: tuple[int, ...]) -> np.ndarray:
