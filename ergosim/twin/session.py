@@ -11,6 +11,7 @@ import dataclasses
 import mujoco
 import numpy as np
 
+from ergosim.errors import InfeasiblePlanError
 from ergosim.scenes.build import weld_name
 from ergosim.twin.allocator import Allocator, Decision
 from ergosim.twin.in_hand import InHandTurn, relative_pose
@@ -98,6 +99,10 @@ class Session:
         plant, cell = self.plant, self.cell
         t0 = plant.time
         motion = self.worker.plan(cell, geom, self.rng, action=geom.action, handover=handover)
+        if motion.reach_error > cell.config.grasp_tolerance:
+            # The hand cannot get to the part from where the worker stands: the action is not done (and the
+            # part is not dragged to the hand by the grasp weld).
+            return _Outcome(False, f"unreachable ({motion.reach_error * 100:.0f} cm short)", t0, plant.time)
         plant.track.start_action(motion)
         grasp_part = cell.grasp_body(geom.part) if geom.kind == "remove" else geom.part
 
@@ -153,7 +158,12 @@ class Session:
         pruned: set[tuple[str, str]] = set()
         order = 0
         while True:
-            decision = alloc.decide(plant.v, done, pruned, plant.time, rep)
+            try:
+                decision = alloc.decide(plant.v, done, pruned, plant.time, rep)
+            except InfeasiblePlanError as err:
+                # Every agent that may do a remaining action failed at it: the repetition cannot finish.
+                self.failures.append(f"repetition {rep}: abandoned, {err.what}")
+                return False
             if decision is None:
                 return True
             self.decisions.append(decision)
@@ -173,7 +183,7 @@ class Session:
                 msg = (f"repetition {rep}: {decision.action} by {decision.agent} failed ({out.status}) "
                        f"at t={out.t_end:.1f} s")
                 self.failures.append(msg)
-                if decision.agent != alloc.human:
+                if decision.agent != alloc.human or out.status.startswith("unreachable"):
                     pruned.add((decision.action, decision.agent))
             self.allocations.append(Allocation(
                 subject=self.subject_index, mode=self.mode, repetition=rep, order=order,

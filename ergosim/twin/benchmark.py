@@ -1,0 +1,98 @@
+"""Speed of the twin loop (``scripts/bench_sim.py``): real-time factor, overhead over raw MuJoCo stepping,
+and the cost of the rerun recording, measured side by side in one run (medians of repeats).
+
+One repetition of the scenario's task is run headless for one calibrated subject; ``raw`` steps the
+same compiled workcell with ``mj_step`` only, for the same simulated time and timestep.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import statistics
+import tempfile
+import time
+from pathlib import Path
+
+import mujoco
+import numpy as np
+
+from ergosim.twin.recording import record_run
+from ergosim.twin.runner import _calibrate, build_rig, make_allocator
+from ergosim.twin.scenario import scenario_config
+from ergosim.twin.session import Session
+from ergosim.viz import open_recording
+from ergosim.worker.subjects import make_subjects
+
+__all__ = ["bench_repetition", "bench_sim", "bench_full"]
+
+
+def bench_repetition(scenario: str = "multi-subject", mode: str = "hrc", seed: int = 0,
+                     record: bool = False, scene_overrides: dict | None = None) -> dict:
+    """Time one repetition (after calibration, which is not timed). Returns wall [s], simulated time [s],
+    and the raw mj_step wall for the same simulated time."""
+    cfg = dataclasses.replace(scenario_config(scenario), repetitions=1, modes=(mode,))
+    subject = make_subjects(1, seed)[0]
+    overrides = dict(scene_overrides or {})
+    calibration, _ = _calibrate(cfg, subject, np.random.default_rng([seed, 1]), overrides)
+    rng = np.random.default_rng([seed, 2])
+    rig = build_rig(cfg, subject, rng, overrides, record_bodies=record, alphas=calibration.alphas)
+    session = Session(cfg=cfg, mode=mode, subject_index=0, worker=rig.worker, plant=rig.plant,
+                      robot=rig.robot, allocator=make_allocator(cfg, mode, rig, calibration), rng=rng)
+    t0 = time.perf_counter()
+    run = session.run(1)
+    if record:
+        with tempfile.TemporaryDirectory() as tmp:
+            rec = open_recording(rrd=Path(tmp) / "bench.rrd")
+            record_run(rec, rig.cell.model, run, cfg.v_th)
+            rec.close()
+    wall = time.perf_counter() - t0
+    sim = rig.plant.time
+    # raw: the same model, same timestep, mj_step only, same simulated time
+    model = rig.cell.model
+    data = mujoco.MjData(model)
+    n = int(round(sim / model.opt.timestep))
+    t1 = time.perf_counter()
+    mujoco.mj_step(model, data, nstep=n)
+    raw = time.perf_counter() - t1
+    return {"wall": wall, "sim_time": sim, "raw_wall": raw, "failures": len(run.failures),
+            "robot_actions": sum(a.agent != "human" for a in run.allocations)}
+
+
+def bench_sim(scenario: str = "multi-subject", mode: str = "hrc", repeats: int = 3, seed: int = 0) -> dict:
+    """Medians over ``repeats`` of: real-time factor and overhead ratio, logging off and on."""
+    rows = {"off": [], "on": []}
+    for r in range(repeats):
+        for key in ("off", "on"):  # interleaved, so both see the same machine load
+            rows[key].append(bench_repetition(scenario, mode, seed + r, record=key == "on"))
+
+    def med(key: str, f) -> float:
+        return statistics.median(f(x) for x in rows[key])
+
+    rtf = med("off", lambda x: x["sim_time"] / x["wall"])
+    rtf_on = med("on", lambda x: x["sim_time"] / x["wall"])
+    return {
+        "scenario": scenario, "mode": mode, "repeats": repeats,
+        "sim_time_s": med("off", lambda x: x["sim_time"]),
+        "wall_s": med("off", lambda x: x["wall"]),
+        "realtime_factor": rtf,
+        "raw_realtime_factor": med("off", lambda x: x["sim_time"] / x["raw_wall"]),
+        "overhead_ratio": med("off", lambda x: x["wall"] / x["raw_wall"]),
+        "realtime_factor_recording": rtf_on,
+        "overhead_ratio_recording": med("on", lambda x: x["wall"] / x["raw_wall"]),
+        "recording_cost": rtf / rtf_on - 1.0,
+        "robot_actions": [x["robot_actions"] for x in rows["off"]],
+    }
+
+
+def bench_full(scenario: str = "multi-subject", jobs: int = 2, seed: int = 0) -> dict:
+    """Wall time of the whole scenario (e.g. 12 subjects x 10 repetitions x 2 modes), ``jobs`` processes."""
+    from ergosim.twin.scenario_run import run_scenario  # noqa: PLC0415
+
+    cfg = scenario_config(scenario)
+    with tempfile.TemporaryDirectory() as tmp:
+        t0 = time.perf_counter()
+        res = run_scenario(scenario, cfg, seed=seed, out=Path(tmp), jobs=jobs, progress=False)
+        wall = time.perf_counter() - t0
+    modes = res.summary["modes"]
+    return {"scenario": scenario, "jobs": jobs, "wall_s": wall,
+            "repetitions": sum(m["repetitions_completed"] for m in modes.values())}
