@@ -62,6 +62,7 @@ def run(cell, tmp_path_factory):
     logged = {"t": [], "rep": [], "pos": [], "quat": [], "angles": [], "rula": [], "grand": [], "kwear": [],
               "decisions": []}
     rec = open_recording(rrd=path)
+    rec.flush_ticks = 250  # flushes mid-run, after each repetition's second batch, and at close
     rec.log_static(cell.model, v_th=V_TH, body_groups=default_body_groups(cell.model, PARTS))
     for rep in range(2):
         t = 38.0 * rep + np.arange(TICKS) / 20.0
@@ -156,11 +157,12 @@ def test_dropouts_leave_gaps_not_values(reader, run):
         np.testing.assert_array_equal(v, logged["angles"][ok, i])
 
 
-def test_thresholds_span_every_batch(reader):
+def test_thresholds_span_every_flush(reader):
     for j, joint in enumerate(KWEAR_JOINTS):
         t, v = reader.scalars(f"ergonomics/kwear_threshold/{joint}")
         np.testing.assert_array_equal(v, V_TH[j])
-        assert t.min() == 0.0 and t.max() == pytest.approx(38.0 + (TICKS - 1) / 20.0)
+        end = (TICKS - 1) / 20.0
+        np.testing.assert_allclose(t, [0.0, end, 38.0, 38.0 + end], atol=1e-9)  # one flush per repetition
 
 
 def test_decisions_hold_the_reason_predictions_and_costs(reader, run):
@@ -224,3 +226,19 @@ def test_disabled_recorder_is_silent():
     rec = TwinRecorder(None)
     assert not rec.enabled and rec.body_entities == {}
     rec.close()
+
+
+def test_unnamed_bodies_are_recorded_by_their_id(tmp_path):
+    model = mujoco.MjModel.from_xml_string(
+        "<mujoco><worldbody><body pos='0 0 1'><freejoint/><geom type='box' size='.1 .1 .1'/></body>"
+        "</worldbody></mujoco>")
+    names = [model.body(b).name for b in range(model.nbody)]
+    assert names == ["world", ""]
+    pos = np.array([[[0, 0, 0], [0.1, 0.2, 0.3]], [[0, 0, 0], [0.4, 0.5, 0.6]]])
+    quat = np.tile([1.0, 0, 0, 0], (2, 2, 1))
+    with open_recording(rrd=tmp_path / "unnamed.rrd") as rec:
+        rec.log_static(model, v_th=V_TH, body_groups={})
+        rec.log_ticks(0, np.array([0.0, 0.05]), pos, quat, names, np.zeros((2, 14)), np.ones((2, 7)),
+                      np.ones(2), np.zeros((2, 5)))
+    _, xyz, _ = RecordingReader(tmp_path / "unnamed.rrd").transforms("world/scene/body1")
+    np.testing.assert_allclose(xyz, pos[:, 1], atol=1e-6)

@@ -146,10 +146,12 @@ class TwinRecorder:
             if not self._bodies:
                 raise RuntimeError("log_static must be called before log_ticks")
             known = {b.name: b for b in self._bodies}
-            missing = [n for n in body_names if n not in known]
+            # an unnamed body is "body<id>" (scene_bodies), which is its column when all bodies are given
+            names = [n or f"body{c}" for c, n in enumerate(body_names)]
+            missing = [n for n in names if n not in known]
             if missing:
                 raise ValueError(f"log_ticks got bodies the model does not have: {', '.join(missing)}")
-            index = [(c, known[n].entity) for c, n in enumerate(body_names) if known[n].static_pose is None]
+            index = [(c, known[n].entity) for c, n in enumerate(names) if known[n].static_pose is None]
             self._tick_index = (body_names, index)
         return self._tick_index[1]
 
