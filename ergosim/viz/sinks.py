@@ -84,10 +84,10 @@ def open_recording(rrd: str | os.PathLike[str] | None = None, spawn: bool = Fals
     if plan.rrd is not None:
         pending = _PendingFile(plan.rrd)
         sinks.append(rr.FileSink(pending.tmp))
-    if plan.spawn:
-        rr.spawn(port=SPAWN_PORT, connect=False, recording=stream)
-    sinks.extend(rr.GrpcSink(url) for url in plan.urls)
     try:
+        if plan.spawn:
+            rr.spawn(port=SPAWN_PORT, connect=False, recording=stream)
+        sinks.extend(rr.GrpcSink(url) for url in plan.urls)
         stream.set_sinks(*sinks, default_blueprint=build_blueprint())
         if recording_name:
             stream.send_recording_name(recording_name)
