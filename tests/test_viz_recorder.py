@@ -55,6 +55,7 @@ def _body_poses(cell, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 @pytest.fixture(scope="module")
 def run(cell, tmp_path_factory):
     """Record a synthetic run; return the inputs and the path of the finished .rrd."""
+    previous = rr.strict_mode()
     rr.set_strict_mode(True)  # misuse of the rerun API raises instead of logging a warning
     rng = np.random.default_rng(11)
     path = tmp_path_factory.mktemp("viz") / "run.rrd"
@@ -90,6 +91,7 @@ def run(cell, tmp_path_factory):
             logged[key].append(value)
         logged["rep"].append(np.full(TICKS, rep))
     rec.close()
+    rr.set_strict_mode(previous)
     arrays = {k: np.concatenate(v) for k, v in logged.items() if k != "decisions"}
     return path, arrays, logged["decisions"], rec.body_entities
 
