@@ -14,6 +14,18 @@ from ergosim.robot.mjcf import (
     panda_xml,
 )
 from ergosim.robot.model import compile_spec, load_mjcf, panda_mjcf_text, panda_spec
+from ergosim.robot.skills import Handover, PickPlace, Skill, SkillParams, handover, pick_place
+from ergosim.robot.status import SkillResult, SkillStatus
+from ergosim.robot.trajectory import (
+    BaseFrame,
+    MotionLimits,
+    PathError,
+    Pose,
+    joint_trajectory,
+    segment_trajectory,
+    transit_trajectory,
+    trapezoid,
+)
 from ergosim.robot.urdf import Urdf, read_urdf
 
 __all__ = [
@@ -37,6 +49,22 @@ __all__ = [
     "load_mjcf",
     "panda_mjcf_text",
     "panda_spec",
+    "Handover",
+    "PickPlace",
+    "Skill",
+    "SkillParams",
+    "handover",
+    "pick_place",
+    "SkillResult",
+    "SkillStatus",
+    "BaseFrame",
+    "MotionLimits",
+    "PathError",
+    "Pose",
+    "joint_trajectory",
+    "segment_trajectory",
+    "transit_trajectory",
+    "trapezoid",
     "Urdf",
     "read_urdf",
 ]

@@ -1,0 +1,192 @@
+"""Building blocks shared by the workcells: furniture, the Panda, the human, the parts and their welds.
+
+Every weld a run may need is declared here, inactive: one per (holder, part) and one per profile seated in
+J. :class:`~ergosim.scenes.workcell.Workcell` switches them on with the relative pose of that moment.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+import warnings
+from collections.abc import Iterator
+
+import mujoco
+import numpy as np
+
+from ergosim.human.mjcf import HOME_POSTURE
+from ergosim.human.model import HAND_SITES, HumanModel, human_spec
+from ergosim.robot.mjcf import HOME_QPOS
+from ergosim.robot.model import compile_spec, panda_spec
+from ergosim.scenes.config import Surface, WorkcellConfig
+from ergosim.scenes.parts import PARTS, PROFILES, add_corner_joint, add_profile, hollow_pose, rest_height
+
+__all__ = ["HOLDERS", "weld_name", "seat_name", "yaw_quat", "new_spec", "add_table", "add_box",
+           "attach_panda", "attach_human", "add_parts", "add_welds", "human_hand_bodies", "finish"]
+
+HOLDERS = ("robot", "human_right", "human_left")
+WOOD = (0.72, 0.6, 0.45, 1.0)
+METAL = (0.45, 0.47, 0.5, 1.0)
+
+
+def weld_name(holder: str, part: str) -> str:
+    return f"hold_{holder}_{part}"
+
+
+def seat_name(profile: str) -> str:
+    return f"seat_{profile}"
+
+
+def yaw_quat(yaw_deg: float) -> list[float]:
+    h = math.radians(yaw_deg) / 2
+    return [math.cos(h), 0.0, 0.0, math.sin(h)]
+
+
+@contextlib.contextmanager
+def _quiet_attach() -> Iterator[None]:
+    """Attach with an empty prefix (names must stay canonical) without MuJoCo's save-related warning."""
+    previous = mujoco.get_mju_user_warning()
+    other: list[str] = []
+    mujoco.set_mju_user_warning(lambda msg: None if "empty prefix" in msg else other.append(msg))
+    try:
+        with warnings.catch_warnings():
+            warnings.filterwarnings("ignore", message="Attaching a spec with an empty prefix")
+            yield
+    finally:
+        mujoco.set_mju_user_warning(previous)
+    for msg in other:
+        warnings.warn(f"MuJoCo: {msg}", RuntimeWarning, stacklevel=3)
+
+
+def new_spec(name: str, cfg: WorkcellConfig) -> mujoco.MjSpec:
+    """An empty scene: options, floor, light, skybox."""
+    spec = mujoco.MjSpec()
+    spec.modelname = name
+    spec.compiler.degree = False
+    spec.option.timestep = cfg.timestep
+    spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+    # Bodies at rest (parts on a table, an idle robot, the human between mocap frames) sleep: the sim steps
+    # 2-3x faster. Writing qpos, a control change, a contact or a weld wakes them.
+    spec.option.enableflags |= mujoco.mjtEnableBit.mjENBL_SLEEP
+    spec.stat.center = [0.5, 0.0, 1.0]
+    spec.stat.extent = 2.0
+    spec.visual.global_.offwidth = 1280
+    spec.visual.global_.offheight = 960
+    spec.visual.headlight.ambient = [0.35, 0.35, 0.35]
+    spec.visual.headlight.diffuse = [0.6, 0.6, 0.6]
+    spec.add_texture(name="skybox", type=mujoco.mjtTexture.mjTEXTURE_SKYBOX,
+                     builtin=mujoco.mjtBuiltin.mjBUILTIN_GRADIENT, rgb1=[0.3, 0.5, 0.7], rgb2=[0, 0, 0],
+                     width=512, height=3072)
+    spec.add_texture(name="floor", type=mujoco.mjtTexture.mjTEXTURE_2D,
+                     builtin=mujoco.mjtBuiltin.mjBUILTIN_CHECKER, rgb1=[0.55, 0.55, 0.55],
+                     rgb2=[0.5, 0.5, 0.5], width=300, height=300)
+    mat = spec.add_material(name="floor", texrepeat=[6, 6], texuniform=True, reflectance=0.05)
+    mat.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = "floor"
+    spec.worldbody.add_light(name="top", pos=[0.5, 0, 3.0], dir=[0, 0, -1],
+                             type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL)
+    spec.worldbody.add_geom(name="floor", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 0.05],
+                            material="floor")
+    return spec
+
+
+def add_box(spec: mujoco.MjSpec, name: str, center, half, rgba=METAL) -> None:
+    spec.worldbody.add_geom(name=name, type=mujoco.mjtGeom.mjGEOM_BOX, pos=list(center), size=list(half),
+                            rgba=list(rgba))
+
+
+def add_table(spec: mujoco.MjSpec, surface: Surface, thickness: float = 0.04, legs: bool = True,
+              rgba=WOOD) -> None:
+    """A slab whose top is at ``surface.height``, on four legs down to the floor."""
+    (cx, cy), (sx, sy), h = surface.center, surface.size, surface.height
+    add_box(spec, surface.name, (cx, cy, h - thickness / 2), (sx / 2, sy / 2, thickness / 2), rgba)
+    if legs:
+        leg_h = (h - thickness) / 2
+        for i, (dx, dy) in enumerate([(1, 1), (1, -1), (-1, 1), (-1, -1)]):
+            centre = (cx + dx * (sx / 2 - 0.03), cy + dy * (sy / 2 - 0.03), leg_h)
+            add_box(spec, f"{surface.name}_leg{i}", centre, (0.02, 0.02, leg_h))
+
+
+def attach_panda(spec: mujoco.MjSpec, cfg: WorkcellConfig, support_height: float | None = None) -> None:
+    """The Panda at ``cfg.robot_base``; a pedestal fills any gap down to ``support_height`` [m]."""
+    x, y, z = cfg.robot_base
+    if support_height is not None and z - support_height > 0.005:
+        half = (z - support_height) / 2
+        add_box(spec, "robot_pedestal", (x - 0.04, y, support_height + half), (0.13, 0.11, half))
+    frame = spec.worldbody.add_frame(name="robot_base", pos=list(cfg.robot_base),
+                                     quat=yaw_quat(cfg.robot_yaw))
+    with _quiet_attach():
+        frame.attach_body(panda_spec().body("panda_link0"), "", "")
+
+
+def attach_human(spec: mujoco.MjSpec, cfg: WorkcellConfig) -> bool:
+    """Attach the kinematic human at the worker position; False when no human model is available."""
+    frame = spec.worldbody.add_frame(name="worker", pos=[*cfg.worker_xy, 0.0], quat=yaw_quat(cfg.worker_yaw))
+    with _quiet_attach():
+        frame.attach_body(human_spec(cfg.stature, keyframe=None).body("human_pelvis"), "", "")
+    return True
+
+
+def add_parts(spec: mujoco.MjSpec, cfg: WorkcellConfig) -> None:
+    """J, L, S1, S2 resting on their surfaces (poses from ``cfg.placements()``), plus the J hollow sites."""
+    surfaces = cfg.surfaces()
+    dims = cfg.dims
+    for part, (surface, (x, y), yaw) in cfg.placements().items():
+        pos = [x, y, surfaces[surface].height + rest_height(dims, part)]
+        if part == "J":
+            body = add_corner_joint(spec.worldbody, dims, pos, yaw_quat(yaw))
+            for profile in PROFILES:
+                p, q = hollow_pose(dims, profile, cfg.hollow(profile))
+                body.add_site(name=f"J_hollow_{profile}", pos=p.tolist(), quat=q.tolist(), group=4)
+        else:
+            add_profile(spec.worldbody, dims, part, pos, yaw_quat(yaw))
+    # the profiles slide into J's sleeves: insertion is a weld within tolerance (Workcell.seat), not a
+    # contact simulation of a 0.5 mm fit
+    for profile in PROFILES:
+        spec.add_exclude(bodyname1="J", bodyname2=profile)
+
+
+def add_welds(spec: mujoco.MjSpec, hand_bodies: dict[str, str]) -> None:
+    """Inactive welds holder -> part for every holder in ``hand_bodies`` and J -> profile for seating."""
+    for holder, body in hand_bodies.items():
+        for part in PARTS:
+            spec.add_equality(name=weld_name(holder, part), type=mujoco.mjtEq.mjEQ_WELD, name1=body,
+                              name2=part, objtype=mujoco.mjtObj.mjOBJ_BODY, active=False, solref=[0.005, 1.0],
+                              solimp=[0.99, 0.999, 0.001, 0.5, 2])
+    for profile in PROFILES:
+        spec.add_equality(name=seat_name(profile), type=mujoco.mjtEq.mjEQ_WELD, name1="J", name2=profile,
+                          objtype=mujoco.mjtObj.mjOBJ_BODY, active=False, solref=[0.005, 1.0],
+                              solimp=[0.99, 0.999, 0.001, 0.5, 2])
+
+
+def human_hand_bodies(spec: mujoco.MjSpec) -> dict[str, str]:
+    out = {}
+    for side, site in HAND_SITES.items():
+        s = spec.site(site)
+        if s is not None:
+            out[f"human_{side}"] = s.parent.name
+    return out
+
+
+def finish(spec: mujoco.MjSpec, where: str) -> mujoco.MjModel:
+    """Replace attached keyframes by one ``home`` (robot ready, fingers open, human relaxed, parts laid
+    out) and compile."""
+    for key in list(spec.keys):
+        spec.delete(key)
+    with _quiet_attach():
+        model = compile_spec(spec, where=where)
+    qpos = model.qpos0.copy()
+    arm = [model.joint(f"panda_joint{i}").qposadr[0] for i in range(1, 8)]
+    qpos[arm] = HOME_QPOS
+    for j in ("panda_finger_joint1", "panda_finger_joint2"):
+        qpos[model.joint(j).qposadr[0]] = model.jnt_range[model.joint(j).id][1]
+    if mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, "trunk_flexion") >= 0:
+        human = HumanModel(model)
+        for name, deg in HOME_POSTURE.items():
+            qpos[human.qadr[human.index[name]]] = np.deg2rad(deg)
+    ctrl = np.zeros(model.nu)
+    ctrl[:7] = HOME_QPOS
+    ctrl[7] = model.actuator_ctrlrange[7, 1]
+    spec.add_key(name="home", qpos=qpos.tolist(), ctrl=ctrl.tolist())
+    with _quiet_attach():
+        return compile_spec(spec, where=where)
+

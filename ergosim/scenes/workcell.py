@@ -1,0 +1,211 @@
+"""A compiled workcell: MuJoCo model + data, its config, the actions' geometry, and the part welds.
+
+Poses are world-frame: position (3,) [m] and quaternion (4,) wxyz. A part is held by switching on the
+declared weld holder -> part with the relative pose of that instant (so nothing jumps); released parts are
+ordinary free bodies that rest and fall under gravity.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal, NamedTuple
+
+import mujoco
+import numpy as np
+
+from ergosim.errors import ConfigError
+from ergosim.scenes.build import HOLDERS, seat_name, weld_name
+from ergosim.scenes.config import WorkcellConfig
+from ergosim.scenes.parts import PARTS, PROFILES
+
+__all__ = ["ActionGeometry", "SeatResult", "Workcell"]
+
+
+@dataclass(frozen=True)
+class ActionGeometry:
+    """Where action ``action`` takes ``part``: the origin of ``part`` ends on site ``target``.
+
+    ``kind``: place | insert | remove. ``handover``: the site where the robot hands the part to the worker
+    (multi-subject scene), else None (the robot places it itself).
+    """
+
+    action: str
+    part: str
+    kind: Literal["place", "insert", "remove"]
+    target: str
+    handover: str | None = None
+
+    @property
+    def target_site(self) -> str:
+        return self.target
+
+
+class SeatResult(NamedTuple):
+    """Outcome of :meth:`Workcell.seat`: errors to the seated pose [m], [deg]."""
+
+    seated: bool
+    pos_error: float
+    rot_error_deg: float
+
+
+def _quat_conj(q: np.ndarray) -> np.ndarray:
+    return q * np.array([1.0, -1.0, -1.0, -1.0])
+
+
+def _quat_angle_deg(q: np.ndarray) -> float:
+    return float(np.degrees(2 * np.arccos(np.clip(abs(q[0]), 0.0, 1.0))))
+
+
+class Workcell:
+    """One scene instance. ``hand_bodies``: holder name -> body that holds (``panda_hand``, human hands)."""
+
+    def __init__(self, name: str, model: mujoco.MjModel, config: WorkcellConfig,
+                 actions: dict[str, ActionGeometry], hand_bodies: dict[str, str]) -> None:
+        self.name = name
+        self.model = model
+        self.data = mujoco.MjData(model)
+        self.config = config
+        self.actions = dict(actions)
+        self.hand_bodies = dict(hand_bodies)
+        self.home_key = model.keyframe("home").id
+        self._body = {p: model.body(p).id for p in PARTS}
+        self._hand = {h: model.body(b).id for h, b in hand_bodies.items()}
+        self._weld = {(h, p): model.equality(weld_name(h, p)).id for h in hand_bodies for p in PARTS}
+        self._seat = {p: model.equality(seat_name(p)).id for p in PROFILES}
+        self._hollow = {p: model.site(f"J_hollow_{p}").id for p in PROFILES}
+        self.reset()
+
+    # -- poses ----------------------------------------------------------------------------------------------
+    def site_pose(self, name: str) -> tuple[np.ndarray, np.ndarray]:
+        i = self.model.site(name).id
+        quat = np.empty(4)
+        mujoco.mju_mat2Quat(quat, self.data.site_xmat[i])
+        return self.data.site_xpos[i].copy(), quat
+
+    def body_pose(self, name: str) -> tuple[np.ndarray, np.ndarray]:
+        i = self.model.body(name).id
+        return self.data.xpos[i].copy(), self.data.xquat[i].copy()
+
+    def robot_base_pose(self) -> tuple[np.ndarray, np.ndarray]:
+        return self.body_pose("panda_link0")
+
+    # -- reset ----------------------------------------------------------------------------------------------
+    def reset(self) -> None:
+        """Everything to the ``home`` keyframe; all welds off."""
+        mujoco.mj_resetDataKeyframe(self.model, self.data, self.home_key)
+        self.data.eq_active[:] = 0
+        mujoco.mj_forward(self.model, self.data)
+
+    def reset_parts(self) -> None:
+        """Lay the parts out again at their initial poses (welds off, at rest); robot and human untouched."""
+        key_qpos = self.model.key_qpos[self.home_key]
+        for eq in (*self._weld.values(), *self._seat.values()):
+            self.data.eq_active[eq] = 0
+        for part in PARTS:
+            jnt = self.model.body_jntadr[self._body[part]]
+            qa, va = self.model.jnt_qposadr[jnt], self.model.jnt_dofadr[jnt]
+            self.data.qpos[qa:qa + 7] = key_qpos[qa:qa + 7]
+            self.data.qvel[va:va + 6] = 0.0
+            self._wake(self._body[part])
+        mujoco.mj_forward(self.model, self.data)
+
+    # -- holding --------------------------------------------------------------------------------------------
+    def _check(self, holder: str, part: str) -> None:
+        if holder not in self._hand:
+            raise ConfigError(f"unknown holder {holder!r}; holders: {', '.join(self._hand)}", where=self.name)
+        if part not in self._body:
+            raise ConfigError(f"unknown part {part!r}; parts: {', '.join(PARTS)}", where=self.name)
+
+    def _wake(self, *bodies: int) -> None:
+        """Wake the free parts among ``bodies``. MuJoCo's sleeping (enabled in the scenes) is velocity-based,
+        and switching a weld off does not wake a part asleep in a hand; a changed ``qpos`` does, so the
+        part's height is moved by one ulp."""
+        for b in bodies:
+            jnt = self.model.body_jntadr[b]
+            if jnt >= 0 and self.model.jnt_type[jnt] == mujoco.mjtJoint.mjJNT_FREE:
+                adr = self.model.jnt_qposadr[jnt] + 2
+                self.data.qpos[adr] = np.nextafter(self.data.qpos[adr], np.inf)
+
+    def _activate(self, eq: int, b1: int, b2: int) -> None:
+        """Weld b2 to b1 at their current relative pose (eq_data: anchor 3, relpose pos 3 + quat 4, scale)."""
+        p1, q1 = self.data.xpos[b1], self.data.xquat[b1]
+        p2, q2 = self.data.xpos[b2], self.data.xquat[b2]
+        r1 = self.data.xmat[b1].reshape(3, 3)
+        rel_q = np.empty(4)
+        mujoco.mju_mulQuat(rel_q, _quat_conj(q1), q2)
+        self.model.eq_data[eq, 0:3] = 0.0
+        self.model.eq_data[eq, 3:6] = r1.T @ (p2 - p1)
+        self.model.eq_data[eq, 6:10] = rel_q
+        self.data.eq_active[eq] = 1
+        self._wake(b1, b2)
+
+    def grasp(self, holder: str, part: str) -> None:
+        """``holder`` ("robot", "human_right", "human_left") takes ``part`` where both are now."""
+        self._check(holder, part)
+        self._activate(self._weld[holder, part], self._hand[holder], self._body[part])
+
+    def release(self, holder: str, part: str) -> None:
+        self._check(holder, part)
+        self.data.eq_active[self._weld[holder, part]] = 0
+        self._wake(self._hand[holder], self._body[part])
+
+    def holder_of(self, part: str) -> str | None:
+        for (h, p), eq in self._weld.items():
+            if p == part and self.data.eq_active[eq]:
+                return h
+        return None
+
+    def is_held(self, holder: str, part: str) -> bool:
+        self._check(holder, part)
+        return bool(self.data.eq_active[self._weld[holder, part]])
+
+    # -- assembly -------------------------------------------------------------------------------------------
+    def seat_error(self, profile: str) -> tuple[float, float]:
+        """Distance [m] and angle [deg] between ``profile`` and its seated pose in J."""
+        pos, quat = self.body_pose(profile)
+        spos, squat = self.site_pose(f"J_hollow_{profile}")
+        dq = np.empty(4)
+        mujoco.mju_mulQuat(dq, _quat_conj(squat), quat)
+        return float(np.linalg.norm(pos - spos)), _quat_angle_deg(dq)
+
+    def seat(self, profile: str) -> SeatResult:
+        """Weld ``profile`` to J at its exact seated pose if it is within the seat tolerances."""
+        if profile not in PROFILES:
+            raise ConfigError(f"only profiles are seated, got {profile!r}; profiles: {', '.join(PROFILES)}",
+                              where=self.name)
+        dist, angle = self.seat_error(profile)
+        ok = dist <= self.config.seat_tolerance and angle <= self.config.seat_tolerance_deg
+        if ok:
+            eq = self._seat[profile]
+            hollow = self._hollow[profile]
+            self.model.eq_data[eq, 0:3] = 0.0
+            self.model.eq_data[eq, 3:6] = self.model.site_pos[hollow]
+            self.model.eq_data[eq, 6:10] = self.model.site_quat[hollow]
+            self.data.eq_active[eq] = 1
+            self._wake(self._body["J"], self._body[profile])
+        return SeatResult(ok, dist, angle)
+
+    def is_seated(self, profile: str) -> bool:
+        return bool(self.data.eq_active[self._seat[profile]])
+
+    def unseat(self, profile: str) -> None:
+        self.data.eq_active[self._seat[profile]] = 0
+        self._wake(self._body["J"], self._body[profile])
+
+    def grasp_site(self, part: str) -> str:
+        """Site the robot's TCP goes to for a top-down grasp of ``part``: J by its upright sleeve, or, once a
+        profile stands in J's upper (z) hollow, that profile near its top end (the whole assembly)."""
+        if part == "J":
+            for p in PROFILES:
+                if self.config.hollow(p) == "z" and self.is_seated(p):
+                    return f"{p}_grasp_end"
+            return "J_grasp"
+        return f"{part}_grasp"
+
+    def grasp_body(self, part: str) -> str:
+        """The body that carries :meth:`grasp_site` (the one to weld to the hand)."""
+        return self.model.body(self.model.site_bodyid[self.model.site(self.grasp_site(part)).id]).name
+
+    @property
+    def holders(self) -> tuple[str, ...]:
+        return tuple(h for h in HOLDERS if h in self._hand)
