@@ -19,8 +19,8 @@ from ergosim.scenes.render import render_workcell
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, default=Path(__file__).resolve().parents[1] / "docs" / "img")
-    parser.add_argument("--azimuth", type=float, default=215.0)
-    parser.add_argument("--elevation", type=float, default=-28.0)
+    parser.add_argument("--azimuth", type=float, default=None, help="camera azimuth [deg]")
+    parser.add_argument("--elevation", type=float, default=None, help="camera elevation [deg]")
     args = parser.parse_args()
     for name in scene_names():
         wc = build_scene(name)

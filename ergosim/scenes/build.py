@@ -114,8 +114,12 @@ def attach_panda(spec: mujoco.MjSpec, cfg: WorkcellConfig, support_height: float
         add_box(spec, "robot_pedestal", (x - 0.04, y, support_height + half), (0.13, 0.11, half))
     frame = spec.worldbody.add_frame(name="robot_base", pos=list(cfg.robot_base),
                                      quat=yaw_quat(cfg.robot_yaw))
+    panda = panda_spec()
+    panda.option.timestep = cfg.timestep  # the scene's options win; equal values avoid a conflict notice
     with _quiet_attach():
-        frame.attach_body(panda_spec().body("panda_link0"), "", "")
+        frame.attach_body(panda.body("panda_link0"), "", "")
+    # the first link turns just above its mount: its hull would only ever graze the support it stands on
+    spec.add_exclude(bodyname1="world", bodyname2="panda_link1")
 
 
 def attach_human(spec: mujoco.MjSpec, cfg: WorkcellConfig) -> bool:

@@ -39,12 +39,14 @@ class MultiSubjectConfig(WorkcellConfig):
     hollow_S2: Hollow = "x"
     j_xy: tuple[float, float] = (0.30, 0.66)
     j_yaw: float = -45.0
-    l_xy: tuple[float, float] = (0.22, 0.94)
-    """L lies farthest from the worker (paper: a2 is the riskiest, G = 5)."""
-    l_yaw: float = 0.0
-    s1_xy: tuple[float, float] = (0.02, 0.68)
+    l_xy: tuple[float, float] = (0.42, 0.80)
+    """L lies farthest from the worker, on the side table, still within reach of a 1.6 m subject who bends
+    and twists (paper §7.2: a2 grasps the object in the furthest location)."""
+    l_yaw: float = 90.0
+    s1_xy: tuple[float, float] = (0.48, 0.34)
+    """S1 and S2 lie close to the worker, on the near-left edge of the bench (paper §7.2: a3, a4)."""
     s1_yaw: float = 0.0
-    s2_xy: tuple[float, float] = (0.12, 0.78)
+    s2_xy: tuple[float, float] = (0.50, 0.43)
     s2_yaw: float = 0.0
     assembly_xy: tuple[float, float] = (0.42, 0.0)
     assembly_yaw: float = -45.0
@@ -57,8 +59,15 @@ class MultiSubjectConfig(WorkcellConfig):
         return {**super().surfaces(), "side_table": side}
 
     def placements(self) -> dict[str, tuple[str, tuple[float, float], float]]:
-        return {"J": ("side_table", self.j_xy, self.j_yaw), "L": ("side_table", self.l_xy, self.l_yaw),
-                "S1": ("side_table", self.s1_xy, self.s1_yaw), "S2": ("side_table", self.s2_xy, self.s2_yaw)}
+        """Each part rests on the surface under its (x, y): the side table, or the bench's near-left edge."""
+        bench = self.surfaces()["bench"]
+
+        def on(xy: tuple[float, float]) -> str:
+            return "bench" if bench.contains(xy) else "side_table"
+
+        return {"J": (on(self.j_xy), self.j_xy, self.j_yaw), "L": (on(self.l_xy), self.l_xy, self.l_yaw),
+                "S1": (on(self.s1_xy), self.s1_xy, self.s1_yaw),
+                "S2": (on(self.s2_xy), self.s2_xy, self.s2_yaw)}
 
     def validate(self, where: str = "multi-subject") -> None:
         super().validate(where)
