@@ -39,7 +39,7 @@ class MultiSubjectConfig(WorkcellConfig):
     hollow_S2: Hollow = "x"
     j_xy: tuple[float, float] = (0.30, 0.66)
     j_yaw: float = -45.0
-    l_xy: tuple[float, float] = (0.42, 0.80)
+    l_xy: tuple[float, float] = (0.26, 0.76)
     """L lies farthest from the worker, on the side table, still within reach of a 1.6 m subject who bends
     and twists (paper §7.2: a2 grasps the object in the furthest location)."""
     l_yaw: float = 90.0
