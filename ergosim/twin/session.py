@@ -13,6 +13,7 @@ import numpy as np
 
 from ergosim.errors import InfeasiblePlanError
 from ergosim.scenes.build import weld_name
+from ergosim.scenes.parts import PROFILES
 from ergosim.twin.allocator import Allocator, Decision
 from ergosim.twin.in_hand import InHandTurn, relative_pose
 from ergosim.twin.loop import Plant
@@ -25,6 +26,9 @@ __all__ = ["Session"]
 # action at 0.05 m/s takes about 30 s, the slowest human action about 8 s.
 _ACTION_TIMEOUT = 180.0
 _PLACE_TOLERANCE = 0.03  # m, a placed part's origin within this distance of its target site
+# The worker retries a failed action from wherever the part now lies; after this many failures of one action
+# in one repetition the worker's hyper-arc is pruned as well (the action is beyond what the worker can do).
+_HUMAN_ATTEMPTS = 3
 
 
 @dataclasses.dataclass
@@ -54,6 +58,7 @@ class Session:
         self.failures: list[str] = []
         self.decisions: list[Decision] = []
         self._scratch = mujoco.MjData(self.cell.model)
+        self._collision_bits: dict[int, tuple[int, int]] = {}
 
     # -- completion, detected in the scene -----------------------------------------------------------------
     def completed(self, geom) -> bool:
@@ -70,6 +75,32 @@ class Session:
         return self.plant.run_until(lambda: self.completed(geom), seconds) or self.completed(geom)
 
     # -- the worker does an action -------------------------------------------------------------------------
+    def _carried(self, grasp_part: str) -> list[int]:
+        """Geoms that move with the worker's hand: the grasped part, or the whole assembly when the grasped
+        part is J or a profile seated in it."""
+        cell = self.cell
+        bodies = {grasp_part}
+        if grasp_part == "J" or (grasp_part in PROFILES and cell.is_seated(grasp_part)):
+            bodies |= {"J", *(p for p in PROFILES if cell.is_seated(p))}
+        ids = {cell.model.body(b).id for b in bodies}
+        return [g for g in range(cell.model.ngeom) if cell.model.geom_bodyid[g] in ids]
+
+    def _pass_through(self, geoms: list[int], on: bool) -> None:
+        """The worker's motion is kinematic and not collision-planned, like the human body itself: what the
+        worker carries passes through the furniture and the robot until it is released, then it is a
+        colliding rigid body again and comes to rest on its own (the scene then decides completion)."""
+        model = self.cell.model
+        if on:
+            for g in geoms:
+                if g not in self._collision_bits:
+                    self._collision_bits[g] = (int(model.geom_contype[g]), int(model.geom_conaffinity[g]))
+                model.geom_contype[g] = model.geom_conaffinity[g] = 0
+        else:
+            for g in geoms:
+                bits = self._collision_bits.pop(g, None)
+                if bits is not None:
+                    model.geom_contype[g], model.geom_conaffinity[g] = bits
+
     def _in_hand_turn(self, motion, geom, body: str) -> InHandTurn:
         """The weld target that brings ``body`` onto ``geom.target`` when the hand reaches its place pose."""
         cell, plant = self.cell, self.plant
@@ -106,11 +137,15 @@ class Session:
         plant.track.start_action(motion)
         grasp_part = cell.grasp_body(geom.part) if geom.kind == "remove" else geom.part
 
+        carried = self._carried(grasp_part)
+
         def on_grasp() -> None:
             cell.grasp(self.hand, grasp_part)  # at a handover the robot sees this and lets go
+            self._pass_through(carried, True)
 
         def on_release() -> None:
             cell.release(self.hand, grasp_part)
+            self._pass_through(carried, False)
             if geom.kind == "insert":
                 cell.seat(geom.part)
 
@@ -120,6 +155,7 @@ class Session:
             finished = plant.run_until(lambda: not plant.track.busy, motion.duration + 1.0)
         finally:
             plant.on_grasp = plant.on_release = plant.frame_hook = None
+            self._pass_through(carried, False)
         ok = finished and self._settle(geom, 0.5)
         status = "ok" if ok else ("timeout" if not finished else "not_completed")
         return _Outcome(ok, status, t0, plant.time)
@@ -156,6 +192,7 @@ class Session:
         plant, alloc = self.plant, self.allocator
         done: list[str] = []
         pruned: set[tuple[str, str]] = set()
+        attempts: dict[str, int] = {}
         order = 0
         while True:
             try:
@@ -183,7 +220,9 @@ class Session:
                 msg = (f"repetition {rep}: {decision.action} by {decision.agent} failed ({out.status}) "
                        f"at t={out.t_end:.1f} s")
                 self.failures.append(msg)
-                if decision.agent != alloc.human or out.status.startswith("unreachable"):
+                attempts[decision.action] = attempts.get(decision.action, 0) + 1
+                if (decision.agent != alloc.human or out.status.startswith("unreachable")
+                        or attempts[decision.action] >= _HUMAN_ATTEMPTS):
                     pruned.add((decision.action, decision.agent))
             self.allocations.append(Allocation(
                 subject=self.subject_index, mode=self.mode, repetition=rep, order=order,
@@ -192,8 +231,6 @@ class Session:
                 t_start=out.t_start, t_end=out.t_end, had_choice=decision.had_choice, status=out.status,
             ))
             order += 1
-            if len(self.failures) > 10 * (rep + 1):
-                return False
 
     def run(self, repetitions: int) -> SubjectRun:
         plant, cfg = self.plant, self.cfg

@@ -13,10 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ergosim.ergonomics import part_scores
-from ergosim.ergonomics.rula import rula
-from ergosim.posture import ANGLE_NAMES, array_to_posture
-from ergosim.twin.records import RULA_PARTS
+from ergosim.posture import ANGLE_NAMES
+from ergosim.worker.ergonomics_tick import score_frames
 from ergosim.worker.motion import ActionMotion, Worker
 from ergosim.worker.stream import MocapStream
 
@@ -47,17 +45,6 @@ class Segment:
     @property
     def n(self) -> int:
         return len(self.true)
-
-
-def score_frames(measured: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(n, 14) measured angles [deg] -> RULA parts (n, 7), grand (n,), G (n, 5); NaN rows stay NaN."""
-    res = rula(array_to_posture(measured))
-    bad = np.isnan(measured).any(axis=1)
-    parts = np.stack([np.asarray(getattr(res, p), dtype=float) for p in RULA_PARTS], axis=-1)
-    grand = np.asarray(res.grand, dtype=float).copy()
-    g = np.asarray(part_scores(res), dtype=float).reshape(len(measured), -1).copy()
-    parts[bad], grand[bad], g[bad] = np.nan, np.nan, np.nan
-    return parts, grand, g
 
 
 class WorkerTrack:

@@ -1,6 +1,15 @@
-"""The simulated worker: IK with natural priors, minimum-jerk motion, subjects, mocap stream, ergonomics."""
+"""The simulated worker: IK with natural priors, minimum-jerk motion, subjects, mocap stream, BVH recordings,
+and the replay of recordings through RULA and KWear."""
 
 from ergosim.worker.bvh import Recording, load_bvh, read_bvh_text, save_bvh
+from ergosim.worker.ergonomics_tick import (
+    REPLAY_COLUMNS,
+    RULA_PARTS,
+    ReplayTrace,
+    replay,
+    score_frames,
+    tick_indices,
+)
 from ergosim.worker.ik import IKPrior, IKSolution, UpperBodyIK, default_prior, log_so3
 from ergosim.worker.minimum_jerk import fitts_duration, interpolate_keyframes, min_jerk, min_jerk_velocity
 from ergosim.worker.motion import ActionMotion, Phase, SceneView, Worker
@@ -32,4 +41,10 @@ __all__ = [
     "make_subject",
     "make_subjects",
     "rest_angles",
+    "RULA_PARTS",
+    "REPLAY_COLUMNS",
+    "ReplayTrace",
+    "score_frames",
+    "tick_indices",
+    "replay",
 ]

@@ -1,127 +1,156 @@
-"""The ergonomics tick (20 Hz by default, as in the paper): mocap frame -> RULA per part -> KWear per joint.
+"""RULA of measured frames, and the replay of a recording through the ergonomics tick (paper eq. 3-5).
 
-Each tick takes the latest mocap frame at or before the tick time. A dropout (NaN) frame is replaced by the
-last valid frame and counted; before any valid frame the wear is not updated. So a NaN never reaches KWear.
-While the worker acts the joints wear (paper eq. 3-4, with G_i from RULA, eq. 3); while resting they recover
-(eq. 5). V(t_k) at the end of an action is :attr:`ErgonomicsTick.v`.
+:func:`score_frames` scores mocap frames with RULA, vectorised over all frames at once; the running twin
+uses it on every measured segment (:mod:`ergosim.twin.worker_track`). :func:`replay` is the one path for
+recordings that do not come from the running twin (a BVH file, a stored stream): frames at the mocap rate
+-> ticks at the ergonomics rate -> RULA per part -> KWear per joint through
+:class:`~ergosim.ergonomics.risk_index.KWearIndex`, so a replay follows the twin's dropout rule exactly: a
+NaN frame is a dropout, counted, and V holds while acting; resting ticks recover (eq. 5).
+
+Sampling. Frame i holds from its time stamp until the next frame (the twin plays frame i over one control
+period). Tick k (k = 1, 2, ...) closes the interval ((k - 1)/rate, k/rate] after the first frame and takes
+the frame in force just before its end: the latest frame stamped strictly before k/rate. For a 60 Hz
+recording and 20 Hz ticks that is frame 3k - 1, the frame the twin's loop and its calibration passes use.
+A recording of n frames at f Hz lasts n/f seconds and gives floor(n rate / f) ticks.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
-from ergosim.ergonomics import part_scores
-from ergosim.ergonomics.kwear import kwear_step
-from ergosim.ergonomics.rula import rula
+from ergosim.ergonomics.kwear import KWearParams
+from ergosim.ergonomics.risk_index import KWearIndex
+from ergosim.ergonomics.rula import RulaResult, part_scores, rula
+from ergosim.errors import ConfigError, RecordingError
 from ergosim.posture import ANGLE_NAMES, KWEAR_JOINTS, array_to_posture
-from ergosim.worker.stream import MocapFrames
 
-__all__ = ["TickTrace", "ErgonomicsTick", "risk_scores", "tick_frames"]
+__all__ = ["RULA_PARTS", "REPLAY_COLUMNS", "ReplayTrace", "score_frames", "tick_indices", "replay"]
 
-_N_RULA = len(ANGLE_NAMES)  # the first 14 columns of a (.., 22) HUMAN_JOINTS frame are the RULA input
+RULA_PARTS: tuple[str, ...] = RulaResult._fields[:7]
+"""RULA's body-part scores, in :class:`~ergosim.ergonomics.rula.RulaResult` order."""
+
+REPLAY_COLUMNS: tuple[str, ...] = (
+    ("t", "acting", "dropout")
+    + ANGLE_NAMES
+    + tuple(f"rula_{p}" for p in RULA_PARTS)
+    + ("rula_grand",)
+    + tuple(f"kwear_{j}" for j in KWEAR_JOINTS)
+)
+"""Columns of :meth:`ReplayTrace.table`: the twin's ``ticks.csv`` columns without ``repetition``."""
+
+_N = len(ANGLE_NAMES)
+_M = len(KWEAR_JOINTS)
+_TOL = 1e-9
 
 
-def risk_scores(angles: np.ndarray) -> np.ndarray:
-    """(n, 22 or 14) valid angles [deg] -> (n, 5) RULA part scores G_i in KWEAR_JOINTS order."""
-    a = np.atleast_2d(np.asarray(angles, dtype=float))[:, :_N_RULA]
-    return np.asarray(part_scores(rula(array_to_posture(a))), dtype=float).reshape(len(a), len(KWEAR_JOINTS))
+def _angles(frames, where: str) -> np.ndarray:
+    a = np.asarray(frames, dtype=float)
+    if a.ndim != 2 or a.shape[1] < _N:
+        raise RecordingError(f"frames must be (n, {_N}) or (n, 22) angles [deg], got shape {a.shape}",
+                             where=where)
+    return a[:, :_N]
 
 
-def tick_frames(frames: MocapFrames, rate: float = 20.0,
-                t_end: float | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """Sample a mocap recording at the tick rate: (k,) tick times [s] and (k, 22) latest frames (may be NaN).
+def score_frames(measured) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """RULA of n measured frames, in one vectorised call.
 
-    Tick k is at ``frames.t[0] + (k + 1) / rate`` (the wear of the interval that ends there).
+    measured: (n, 14) angles [deg] in ANGLE_NAMES order, or (n, 22) HUMAN_JOINTS frames (the first 14 columns
+    are the RULA input). Returns part scores (n, 7) in :data:`RULA_PARTS` order, grand scores (n,) and the
+    KWear inputs G (n, 5) in KWEAR_JOINTS order (paper eq. 3). A row with any NaN angle (a dropout) is NaN
+    in all three.
     """
-    t0 = frames.t[0]
-    end = frames.t[-1] if t_end is None else t_end
-    n = int(np.floor((end - t0) * rate + 1e-9))
-    ticks = t0 + np.arange(1, n + 1) / rate
-    idx = np.searchsorted(frames.t, ticks + 1e-9, side="right") - 1
-    return ticks, frames.angles[np.clip(idx, 0, len(frames.t) - 1)]
+    a = _angles(measured, "score_frames")
+    res = rula(array_to_posture(a))
+    bad = np.isnan(a).any(axis=1)
+    parts = np.stack([np.asarray(getattr(res, p), dtype=float) for p in RULA_PARTS], axis=-1)
+    grand = np.array(res.grand, dtype=float)
+    g = np.array(part_scores(res), dtype=float).reshape(len(a), _M)
+    parts[bad], grand[bad], g[bad] = np.nan, np.nan, np.nan
+    return parts, grand, g
 
 
-@dataclass(frozen=True)
-class TickTrace:
-    """Per-tick record of one stretch of ticks: ``v`` (k, 5) KWear after each tick, ``g`` (k, 5) the part
-    scores used (NaN where no valid frame existed yet or the worker rested), ``dropout`` (k,) bool."""
+def tick_indices(n_frames: int, mocap_rate: float, rate: float = 20.0) -> np.ndarray:
+    """(k,) index of the frame each ergonomics tick uses, for ``n_frames`` frames at ``mocap_rate`` [Hz]
+    and ticks at ``rate`` [Hz]: the latest frame stamped strictly before the tick (module docstring)."""
+    if not (mocap_rate > 0 and rate > 0):
+        raise ConfigError(f"rates must be > 0 Hz, got mocap {mocap_rate}, ergonomics {rate}", where="replay")
+    n_ticks = int(np.floor(n_frames * rate / mocap_rate + _TOL))
+    k = np.arange(1, n_ticks + 1)
+    return np.ceil(k * (mocap_rate / rate) - _TOL).astype(np.int64) - 1
 
-    v: np.ndarray
+
+@dataclass(frozen=True, eq=False)
+class ReplayTrace:
+    """Per-tick result of a replay; every array has one row per ergonomics tick.
+
+    ``t`` (k,) tick times [s] (the end of each tick's interval); ``frame`` (k,) index of the frame used;
+    ``angles`` (k, 14) its measured angles [deg]; ``rula`` (k, 7) part scores (:data:`RULA_PARTS`),
+    ``grand`` (k,) and ``g`` (k, 5) G_i, NaN on dropouts; ``v`` (k, 5) KWear after each tick
+    (KWEAR_JOINTS order); ``acting`` (k,) False where the worker rested; ``dropout`` (k,) the frame was a
+    dropout; ``dropouts`` their number; ``rate`` the ergonomics rate [Hz].
+    """
+
+    t: np.ndarray
+    frame: np.ndarray
+    angles: np.ndarray
+    rula: np.ndarray
+    grand: np.ndarray
     g: np.ndarray
+    v: np.ndarray
+    acting: np.ndarray
     dropout: np.ndarray
+    dropouts: int
+    rate: float
+
+    @property
+    def n(self) -> int:
+        return len(self.t)
+
+    @property
+    def v_end(self) -> np.ndarray:
+        """(5,) KWear after the last tick (zeros-length replay: NaN)."""
+        return self.v[-1].copy() if self.n else np.full(_M, np.nan)
+
+    def table(self) -> np.ndarray:
+        """(k, len(REPLAY_COLUMNS)) rows in :data:`REPLAY_COLUMNS` order (acting, dropout as 0/1)."""
+        return np.column_stack([self.t, self.acting, self.dropout, self.angles, self.rula, self.grand,
+                                self.v]) if self.n else np.empty((0, len(REPLAY_COLUMNS)))
 
 
-class ErgonomicsTick:
-    """KWear state of one worker, advanced tick by tick. ``params``: ``KWearParams``; ``rate`` [Hz]."""
+def replay(frames, mocap_rate: float, params: KWearParams | None = None, *, rate: float = 20.0,
+           resting=False, t0: float = 0.0, index: KWearIndex | None = None) -> ReplayTrace:
+    """Replay measured frames through the ergonomics tick: RULA per part, then KWear per joint.
 
-    def __init__(self, params: Any, rate: float = 20.0, v0: np.ndarray | None = None) -> None:
-        self.params = params
-        self.rate = float(rate)
-        self.dt = 1.0 / self.rate
-        self.v = np.zeros(len(KWEAR_JOINTS)) if v0 is None else np.array(v0, dtype=float)
-        self.last_valid: np.ndarray | None = None
-        self.dropouts = 0
-        self.ticks = 0
-        self._nan_g = np.full(len(KWEAR_JOINTS), np.nan)
-
-    def reset(self, v0: np.ndarray | None = None) -> None:
-        """Zero wear (or ``v0``) and forget the last frame, e.g. before a calibration execution."""
-        self.v = np.zeros(len(KWEAR_JOINTS)) if v0 is None else np.array(v0, dtype=float)
-        self.last_valid = None
-
-    def _frame(self, frame: np.ndarray) -> np.ndarray | None:
-        if np.isnan(frame[:_N_RULA]).any():
-            self.dropouts += 1
-            return self.last_valid
-        self.last_valid = frame
-        return frame
-
-    def step(self, frame: np.ndarray, resting: bool = False) -> np.ndarray:
-        """Advance one tick with the latest (22,) or (14,) frame [deg]; returns the (5,) part scores used
-        (NaN if none). Resting ticks recover whatever the frame."""
-        self.ticks += 1
-        frame = self._frame(np.asarray(frame, dtype=float))
-        if resting:
-            self.v = kwear_step(self.v, np.zeros(len(KWEAR_JOINTS)), self.dt, self.params, resting=True)
-            return self._nan_g
-        if frame is None:
-            return self._nan_g
-        g = risk_scores(frame)[0]
-        self.v = kwear_step(self.v, g, self.dt, self.params)
-        return g
-
-    def run(self, frames: np.ndarray, resting: np.ndarray | bool = False) -> TickTrace:
-        """Advance over (k, 22) frames at the tick rate (RULA vectorised once); ``resting`` (k,) or scalar."""
-        frames = np.atleast_2d(np.asarray(frames, dtype=float))
-        k = len(frames)
-        rest = np.broadcast_to(np.asarray(resting, dtype=bool), (k,))
-        drop = np.isnan(frames[:, :_N_RULA]).any(axis=1)
-        held = np.empty_like(frames)
-        have = np.zeros(k, dtype=bool)
-        last = self.last_valid
-        for i in range(k):  # hold the last valid frame through dropouts
-            if not drop[i]:
-                last = frames[i]
-            if last is not None:
-                held[i], have[i] = last, True
-        self.last_valid = last
-        g = np.full((k, len(KWEAR_JOINTS)), np.nan)
-        use = have & ~rest
-        if use.any():
-            g[use] = risk_scores(held[use])
-        v_out = np.empty((k, len(KWEAR_JOINTS)))
-        v = self.v
-        zero = np.zeros(len(KWEAR_JOINTS))
-        for i in range(k):
-            if rest[i]:
-                v = kwear_step(v, zero, self.dt, self.params, resting=True)
-            elif use[i]:
-                v = kwear_step(v, g[i], self.dt, self.params)
-            v_out[i] = v
-        self.v = v
-        self.ticks += k
-        self.dropouts += int(drop.sum())
-        return TickTrace(v_out, g, drop)
+    frames: (n, 14) or (n, 22) measured angles [deg] (NaN rows are dropouts) sampled at ``mocap_rate``
+    [Hz], the first at ``t0`` [s]. params: the worker's KWear constants (paper defaults if None).
+    rate: ergonomics rate [Hz] (20 Hz in the paper). resting: bool, or (n,) per frame, True where the worker
+    is not executing an action (eq. 5 recovery instead of eq. 3-4 wear). index: a
+    :class:`KWearIndex` to continue from (its V, counters and action hooks carry over); a fresh one from
+    zero wear if None. RULA runs once over all tick frames; only the KWear recursion is per tick.
+    """
+    a = _angles(frames, "replay")
+    n = len(a)
+    rest = np.asarray(resting, dtype=bool)
+    if rest.ndim and rest.shape != (n,):
+        raise ConfigError(f"resting must be a bool or ({n},) per frame, got shape {rest.shape}",
+                          where="replay")
+    if index is None:
+        index = KWearIndex(params if params is not None else KWearParams(), {})
+    idx = tick_indices(n, mocap_rate, rate)
+    k = len(idx)
+    angles = a[idx]
+    parts, grand, g = score_frames(angles)
+    acting = ~np.broadcast_to(rest, (n,))[idx]
+    dropout = np.isnan(angles).any(axis=1)
+    v = np.empty((k, _M))
+    dt = 1.0 / rate
+    zero = np.zeros(_M)
+    for i in range(k):  # KWear is a recursion: V(t_k) depends on V(t_{k-1})
+        if acting[i]:
+            v[i] = index.update(g[i], dt)
+        else:
+            v[i] = index.update(zero, dt, resting=True)
+    t = t0 + np.arange(1, k + 1) / rate
+    return ReplayTrace(t, idx, angles, parts, grand, g, v, acting, dropout, int(dropout.sum()), float(rate))

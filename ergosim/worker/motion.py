@@ -123,7 +123,7 @@ class Worker:
         ``target_site`` (the site where the part's origin must end up).
 
         ``handover``: the part is taken from the robot's gripper where it currently is. Variability (posture
-        and timing) is drawn from ``rng``.
+        and timing: ``subject.variability_deg``, ``subject.timing_variability``) is drawn from ``rng``.
         """
         part = geometry.part
         target_site = getattr(geometry, "target", None) or geometry.target_site
@@ -174,7 +174,8 @@ class Worker:
         grasp_dwell = self.HANDOVER_DWELL if handover else self.GRASP_DWELL
         place_dwell = self.INSERT_DWELL if kind == "insert" else self.PLACE_DWELL
         moves = fitts_duration(np.linalg.norm(np.diff(hands, axis=0), axis=1), speed=self.subject.speed)
-        moves = np.asarray(moves) * rng.lognormal(0.0, 0.06, len(moves))
+        # trial-to-trial timing jitter; always drawn, so the rng stream does not depend on its size
+        moves = np.asarray(moves) * rng.lognormal(0.0, self.subject.timing_variability, len(moves))
         dwell = {2: grasp_dwell, 6: place_dwell, 7: self.RELEASE_DWELL}  # segment index -> fixed duration
         seg = np.array([dwell[i] / self.subject.speed if i in dwell else moves[i]
                         for i in range(len(keys) - 1)])

@@ -35,6 +35,8 @@ class Subject:
     ``elbow_comfort_deg``: how straight an arm may get before the trunk helps; ``eye_down_deg``: downward
     gaze taken by the eyes before the neck flexes; ``noise_deg``: white sensor noise; ``bias_deg``: drift of
     the sensor bias; ``variability_deg``: trial-to-trial variation of the preferred posture;
+    ``timing_variability``: trial-to-trial variation of each movement's duration, the sigma of a log-normal
+    factor (0.06 ~ +-6 %; 0 = the same timing every execution);
     ``kwear``: overrides of the KWear parameters (``KWearParams`` field -> value; empty = paper defaults).
     """
 
@@ -48,8 +50,14 @@ class Subject:
     noise_deg: float = 1.0
     bias_deg: float = 1.5
     variability_deg: float = 3.0
+    timing_variability: float = 0.06
     handedness: str = "right"
     kwear: tuple[tuple[str, float], ...] = field(default=())
+
+    def __post_init__(self) -> None:
+        if not 0.0 <= self.timing_variability <= 0.5:
+            raise ConfigError(f"timing_variability must be in [0, 0.5], got {self.timing_variability}",
+                              where=f"subject {self.name}")
 
     @property
     def scale_map(self) -> dict[str, float]:
@@ -102,7 +110,8 @@ def make_subject(rng: np.random.Generator, name: str = "S01", kwear: Mapping[str
         variability_deg=float(np.clip(rng.normal(3.0, 0.8), 1.0, 6.0)),
         kwear=tuple(sorted((kwear or {}).items())),
     )
-    unknown = set(overrides) - set(fields) - {"handedness"}
+    # not drawn: the population keeps the timing jitter it was built with; override it per subject
+    unknown = set(overrides) - set(fields) - {"handedness", "timing_variability"}
     if unknown:
         raise ConfigError(f"unknown subject field(s) {sorted(unknown)}", where="make_subject")
     fields.update(overrides)

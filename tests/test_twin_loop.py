@@ -1,0 +1,159 @@
+"""The digital-twin loop on the real workcells: short scenarios run end to end (issue 6, 7).
+
+These run the real loop -- physics, the mocap-driven worker, RULA/KWear per tick, the planner after every
+action -- shortened only in subjects and repetitions.
+"""
+
+from __future__ import annotations
+
+import csv
+import dataclasses
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from ergosim.cli import main
+from ergosim.posture import KWEAR_JOINTS
+from ergosim.twin.runner import run_subject
+from ergosim.twin.scenario import scenario_config
+from ergosim.twin.scenario_run import run_scenario
+from ergosim.viz import RecordingReader
+
+
+@pytest.fixture(scope="module")
+def hrc_run():
+    cfg = dataclasses.replace(scenario_config("multi-subject"), repetitions=2, modes=("hrc", "h-only"))
+    return cfg, run_subject(cfg, 0, 0, cfg.modes)
+
+
+def test_hrc_completes_every_assembly_through_the_scene(hrc_run):
+    cfg, res = hrc_run
+    run = res.runs["hrc"]
+    assert run.repetitions_completed == 2
+    done = [a for a in run.allocations if a.status == "ok"]
+    # every repetition does a1..a5 once, in an order the planner allowed (a1 first, a5 last)
+    for rep in (1, 2):
+        order = [a.action for a in done if a.repetition == rep]
+        assert sorted(order) == ["a1", "a2", "a3", "a4", "a5"]
+        assert order[0] == "a1" and order[-1] == "a5"
+    # ticks run at the ergonomics rate and KWear stays in [0, 1)
+    t = run.ticks.column("t")
+    assert np.allclose(np.diff(t), 1.0 / cfg.ergonomics_rate)
+    assert np.all((run.ticks.kwear >= 0) & (run.ticks.kwear < 1))
+
+
+def test_allocations_follow_the_costs(hrc_run):
+    _, res = hrc_run
+    for a in res.runs["hrc"].allocations:
+        if not a.had_choice:
+            assert a.action == "a5" and a.agent == "human"  # a5 is the human's alone (§7.2)
+            continue
+        # actions are priced independently (one prediction from V(t_k) each), so the optimal plan gives
+        # each action to its cheaper agent; ties go to the first agent of the task file (the human)
+        if a.agent == "robot":
+            assert a.robot_cost < a.human_cost
+        else:
+            assert a.human_cost <= a.robot_cost
+
+
+def test_human_costs_are_eq_10_11_of_the_predicted_kwear(hrc_run):
+    cfg, res = hrc_run
+    run = res.runs["hrc"]
+    for d in run.decisions:
+        for action, v_hat in d.v_hat.items():
+            alpha = np.asarray(res.alphas[action])
+            np.testing.assert_allclose(v_hat, 1 - alpha * (1 - d.v_now), rtol=0, atol=1e-12)  # eq. 9
+            expected = float(np.sum(v_hat + cfg.gamma * (v_hat >= cfg.v_th)))  # eq. 10-11
+            assert d.costs[(action, "human")] == pytest.approx(expected, abs=1e-12)
+            assert d.costs[(action, "robot")] == cfg.robot_cost
+
+
+def test_h_only_never_dispatches_to_the_robot(hrc_run):
+    cfg, res = hrc_run
+    run = res.runs["h-only"]
+    assert run.repetitions_completed == 2
+    assert {a.agent for a in run.allocations} == {"human"}
+    # the worker waits for the takt before the next repetition (paper §7.2)
+    starts = [min(a.t_start for a in run.allocations if a.repetition == r) for r in (1, 2)]
+    assert starts[1] == pytest.approx(cfg.takt, abs=1.0 / cfg.mocap_rate)
+
+
+def test_robot_rests_the_worker(hrc_run):
+    """While the robot works the worker rests: KWear decays (eq. 5) over every robot-only stretch."""
+    _, res = hrc_run
+    run = res.runs["hrc"]
+    t, acting, v = run.ticks.column("t"), run.ticks.column("acting"), run.ticks.kwear
+    robot = [a for a in run.allocations if a.agent == "robot"]
+    assert robot, "the robot got no action in two repetitions"
+    for a in robot:
+        idle = (t > a.t_start) & (t < a.t_end) & (acting == 0)
+        both = idle[1:] & idle[:-1]  # consecutive resting ticks (the worker acts at a handover)
+        assert both.sum() > 20
+        assert np.all(np.diff(v, axis=0)[both] < 0)
+
+
+def _summary(tmp_path, jobs, name):
+    cfg = dataclasses.replace(scenario_config("kwear-validation"), subjects=2, repetitions=1, modes=("hrc",))
+    out = tmp_path / name
+    run_scenario("kwear-validation", cfg, seed=0, out=out, jobs=jobs, progress=False)
+    return out
+
+
+def test_same_seed_same_results_serial_or_parallel(tmp_path):
+    a, b = _summary(tmp_path, 1, "serial"), _summary(tmp_path, 2, "parallel")
+    for name in ("summary.json", "allocations.csv", "ticks.csv"):
+        assert (a / name).read_bytes() == (b / name).read_bytes(), name
+    summary = json.loads((a / "summary.json").read_text())
+    assert summary["complete"] is True and summary["seed"] == 0
+    assert summary["modes"]["hrc"]["repetitions_completed"] == 2
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--set", "tackt=40"], "--set: unknown key 'tackt'"),
+        (["--set", "takt=fast"], "takt='fast' is not a number"),
+        (["--set", "v_th=1.5"], "v_th must be in (0, 1)"),
+        (["--set", "scene.shelf_hieght=2"], "unknown key 'shelf_hieght'"),
+        (["--set", "noequals"], "expected KEY=VALUE"),
+        (["--reps", "0"], "--reps: must be >= 1"),
+    ],
+)
+def test_bad_settings_are_one_line_errors(args, message, capsys, tmp_path):
+    code = main(["run", "kwear-validation", "--out", str(tmp_path), "--quiet", *args])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert message in err and err.count("\n") == 1 and "Traceback" not in err
+
+
+def test_cli_error_has_no_traceback_in_a_subprocess(tmp_path):
+    proc = subprocess.run([sys.executable, "-m", "ergosim.cli", "run", "no-such-scenario", "--out",
+                           str(tmp_path)], check=False, capture_output=True, text=True)
+    assert proc.returncode == 2
+    assert "unknown scenario 'no-such-scenario'" in proc.stderr and "Traceback" not in proc.stderr
+
+
+def test_recording_of_a_run_matches_its_ticks_file(tmp_path):
+    out, rrd = tmp_path / "out", tmp_path / "run.rrd"
+    code = main(["run", "kwear-validation", "--reps", "1", "--mode", "hrc", "--out", str(out),
+                 "--rrd", str(rrd), "--quiet", "--jobs", "1"])
+    assert code == 0
+    verify = subprocess.run([sys.executable, "-m", "rerun", "rrd", "verify", str(rrd)], check=False,
+                            capture_output=True, text=True)
+    assert verify.returncode == 0, verify.stderr
+    reader = RecordingReader(rrd)
+    assert any(e.startswith("world/robot/panda_link") for e in reader.entities)
+    assert any(e.startswith("world/human/") for e in reader.entities)
+    with (out / "ticks.csv").open() as f:
+        rows = list(csv.DictReader(f))
+    ticks_t = np.array([float(r["t"]) for r in rows])
+    for joint in KWEAR_JOINTS:
+        t, v = reader.scalars(f"ergonomics/kwear/{joint}")
+        np.testing.assert_allclose(t, ticks_t, atol=1e-6)
+        np.testing.assert_allclose(v, [float(r[f"kwear_{joint}"]) for r in rows], rtol=1e-8, atol=1e-9)
+    for part in ("upper_arm", "trunk", "neck"):
+        t, v = reader.scalars(f"ergonomics/rula/{part}")
+        assert len(t) > 0 and np.nanmax(v) <= 6
