@@ -81,6 +81,15 @@ def test_h_only_never_dispatches_to_the_robot(hrc_run):
     assert starts[1] == pytest.approx(cfg.takt, abs=1.0 / cfg.mocap_rate)
 
 
+def test_every_mode_covers_the_production_schedule(hrc_run):
+    """A worker who finishes early rests to the end of repetitions × takt, so load proxies compare."""
+    cfg, res = hrc_run
+    for run in res.runs.values():
+        assert run.horizon == pytest.approx(2 * cfg.takt)
+        assert run.ticks.column("t")[-1] >= run.horizon - 1.0 / cfg.ergonomics_rate
+        assert run.kwear_integral <= run.kwear_integral_run
+
+
 def test_robot_rests_the_worker(hrc_run):
     """While the robot works the worker rests: KWear decays (eq. 5) over every robot-only stretch."""
     _, res = hrc_run

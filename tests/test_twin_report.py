@@ -78,3 +78,22 @@ def test_scenarios_validate_and_reject_bad_values():
     assert cfg.rula_threshold == pytest.approx(7.2)
     with pytest.raises(ConfigError, match="unknown scenario 'nope'; valid scenarios: kwear-validation"):
         scenario_config("nope")
+
+
+def test_kwear_integral_covers_the_production_schedule_only():
+    """The headline load proxy integrates over repetitions × takt; the whole-run integral is kept beside it."""
+    run = _run(0, "hrc", ["human"] * 5, 0.5)
+    t_col = TICK_COLUMNS.index("t")
+    rows = run.ticks.rows.copy()
+    rows[:, t_col] = 0.05 * np.arange(1, len(rows) + 1)  # 40 ticks: 0.05 .. 2.0 s
+    ticks = TickLog()
+    for row in rows:
+        ticks.append(row)
+    windowed = SubjectRun(0, "hrc", run.allocations, ticks, 2, 1, 0.05, 0.8, horizon=1.0)
+    assert windowed.kwear_integral == pytest.approx(20 * 0.05 * 5 * 0.5)  # ticks with t <= 1.0 s
+    assert windowed.kwear_integral_run == pytest.approx(40 * 0.05 * 5 * 0.5)
+    assert windowed.kwear_mean == pytest.approx(2.5) and windowed.duration == pytest.approx(2.0)
+    s = summarise("x", 0, {"hrc": [windowed], "h-only": [windowed]}, actions=["a1"])
+    assert set(s["wilcoxon_by_metric"]) == {"kwear_integral", "kwear_integral_run", "kwear_mean",
+                                            "time_above_vth"}
+    assert s["wilcoxon"]["metric"] == "kwear_integral"

@@ -126,7 +126,8 @@ def attach_human(spec: mujoco.MjSpec, cfg: WorkcellConfig) -> bool:
     """Attach the kinematic human at the worker position; False when no human model is available."""
     frame = spec.worldbody.add_frame(name="worker", pos=[*cfg.worker_xy, 0.0], quat=yaw_quat(cfg.worker_yaw))
     with _quiet_attach():
-        frame.attach_body(human_spec(cfg.stature, keyframe=None).body("human_pelvis"), "", "")
+        frame.attach_body(human_spec(cfg.stature, dict(cfg.human_scale), keyframe=None).body("human_pelvis"),
+                          "", "")
     return True
 
 

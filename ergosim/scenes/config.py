@@ -44,6 +44,9 @@ class WorkcellConfig:
     """Physics step [s]."""
     stature: float = 1.75
     """Worker stature [m] (scales the human model)."""
+    human_scale: tuple[tuple[str, float], ...] = ()
+    """Per-segment length multipliers of the worker, (segment, factor) pairs (a synthetic subject's
+    ``Subject.scale``); empty = the population proportions for ``stature``."""
     worker_xy: tuple[float, float] = (0.0, 0.0)
     """Pelvis position on the floor [m]; the worker faces +x rotated by ``worker_yaw``."""
     worker_yaw: float = 0.0

@@ -22,6 +22,10 @@ from ergosim.twin.worker_track import WorkerTrack
 __all__ = ["Plant"]
 
 _M = len(KWEAR_JOINTS)
+# tick-log columns copied from the segment's per-frame table, and KWear's
+_SCORES = slice(TICK_COLUMNS.index("acting"), TICK_COLUMNS.index("rula_grand") + 1)
+_KWEAR = slice(TICK_COLUMNS.index(f"kwear_{KWEAR_JOINTS[0]}"),
+               TICK_COLUMNS.index(f"kwear_{KWEAR_JOINTS[-1]}") + 1)
 
 
 class Plant:
@@ -79,12 +83,12 @@ class Plant:
     # -- one control tick ----------------------------------------------------------------------------------
     def step(self) -> None:
         track = self.track
-        if track.exhausted:
-            track.start_rest(1.0)
         seg = track.segment
+        if seg is None or track.index >= seg.n:
+            seg = track.start_rest(1.0)
         k = track.advance()
         d = self.data
-        d.qpos[self._qadr] = np.deg2rad(seg.true[k])
+        d.qpos[self._qadr] = seg.qpos[k]
         d.qvel[self._dofadr] = 0.0
         if k == seg.grasp_frame and track.index == k + 1 and self.on_grasp is not None:
             self.on_grasp()
@@ -104,21 +108,15 @@ class Plant:
     def _ergonomics_tick(self, seg, k: int) -> None:
         """Paper eq. 3-5 over one ergonomics period: wear while acting, recovery while resting. A dropout
         (NaN frame) is counted by the index and V holds, so NaN never reaches KWear."""
-        g = seg.g[k]
-        dropout = bool(np.isnan(g[0]))
         if seg.acting:
-            self.kwear.update(g, self.dt_tick)
+            self.kwear.update(seg.g[k], self.dt_tick)
         else:
             self.kwear.update(self._zero_g, self.dt_tick, resting=True)
         row = self._row
         row[0] = self.repetition
         row[1] = self.time
-        row[2] = float(seg.acting)
-        row[3] = float(dropout)
-        row[4:18] = seg.measured[k]
-        row[18:25] = seg.rula[k]
-        row[25] = seg.grand[k]
-        row[26:31] = self.kwear.value
+        row[_SCORES] = seg.scores[k]
+        row[_KWEAR] = self.kwear.value
         self.log.append(row)
         if self.record_bodies:
             self.body_pos.append(self.data.xpos.copy())

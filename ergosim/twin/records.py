@@ -7,6 +7,7 @@ These are plain data, filled by the loop (:mod:`ergosim.twin.loop`) and consumed
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import numpy as np
 
@@ -92,11 +93,36 @@ class SubjectRun:
     """The allocator's decisions (ergosim.twin.allocator.Decision), in order."""
     bodies: tuple[np.ndarray, np.ndarray] | None = None
     """When recorded: body positions (n, nbody, 3) [m] and quaternions (n, nbody, 4) wxyz per tick row."""
+    horizon: float = math.inf
+    """The production schedule [s]: repetitions × takt. The session runs at least this long (a worker who
+    finishes early rests), so every mode covers the same window."""
 
     @property
     def kwear_integral(self) -> float:
-        """Physical-load proxy: ∫ Σ_i V_i dt over the run [s]."""
+        """Physical-load proxy: ∫_0^H Σ_i V_i dt [s] over the production schedule H = repetitions × takt,
+        the same window in every mode (a mode whose repetitions overrun the takt is not credited for the
+        rest it takes after H, nor charged for the wear)."""
+        kw = self.ticks.kwear
+        if not np.isfinite(self.horizon) or len(kw) == 0:
+            return self.kwear_integral_run
+        inside = self.ticks.column("t") <= self.horizon + 1e-9
+        return float(kw[inside].sum() * self.dt_tick)
+
+    @property
+    def kwear_integral_run(self) -> float:
+        """∫ Σ_i V_i dt over the whole run [s], however long its repetitions took."""
         return float(self.ticks.kwear.sum() * self.dt_tick)
+
+    @property
+    def kwear_mean(self) -> float:
+        """Time-averaged Σ_i V_i over the whole run."""
+        kw = self.ticks.kwear
+        return float(kw.sum(axis=1).mean()) if len(kw) else 0.0
+
+    @property
+    def duration(self) -> float:
+        """Simulated time of the run [s]."""
+        return float(len(self.ticks.kwear) * self.dt_tick)
 
     @property
     def time_above_threshold(self) -> float:

@@ -75,7 +75,7 @@ def _separate_parts(model) -> None:
 def build_rig(cfg: ScenarioConfig, subject: Subject, rng: np.random.Generator,
               scene_overrides: Mapping[str, str], record_bodies: bool = False,
               alphas: Mapping[str, np.ndarray] | None = None) -> Rig:
-    overrides = {"stature": subject.stature, **dict(scene_overrides)}
+    overrides = {"stature": subject.stature, "human_scale": subject.scale, **dict(scene_overrides)}
     cell = build_scene(cfg.scene, **overrides)
     _separate_parts(cell.model)
     worker = Worker(subject, rate=cfg.mocap_rate)

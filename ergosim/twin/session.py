@@ -249,11 +249,17 @@ class Session:
             overruns += int(plant.time - start > cfg.takt)
             if not ok:
                 break
+        # The shift lasts the production schedule: a worker who finished early rests until its end, so
+        # the load proxies of every mode cover the same window (paper §7.2: takt-timed repetitions).
+        horizon = repetitions * cfg.takt
+        if plant.time < horizon:
+            plant.track.start_rest(horizon - plant.time)
+            plant.run_until(lambda: plant.time >= horizon - 1e-9, horizon - plant.time + 1.0)
         bodies = None
         if plant.record_bodies:
             bodies = (np.array(plant.body_pos), np.array(plant.body_quat))
         return SubjectRun(
             subject=self.subject_index, mode=self.mode, allocations=self.allocations, ticks=plant.log,
             repetitions_completed=completed, takt_overruns=overruns, dt_tick=plant.dt_tick, v_th=cfg.v_th,
-            failures=self.failures, decisions=self.decisions, bodies=bodies,
+            failures=self.failures, decisions=self.decisions, bodies=bodies, horizon=horizon,
         )

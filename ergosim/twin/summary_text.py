@@ -16,14 +16,18 @@ def summary_text(summary: dict, cfg) -> str:
         if m["actions"]:
             share = f"{100 * m['robot_share']:5.1f}% ({m['robot_actions']}/{m['actions']})"
         lines.append(f"{mode:<8} {m['repetitions_completed']:>5} {m['takt_overruns']:>9} {share:>12}  {by}")
-    loads = {mode: m["kwear_integral_by_subject"] for mode, m in modes.items()}
-    if loads:
-        lines.append("KWear integral ∫ΣV dt per subject [s]: " + "; ".join(
-            f"{mode} mean {sum(v) / len(v):.1f}" for mode, v in loads.items() if v))
-    w = summary.get("wilcoxon")
-    if w and w.get("p") is not None:
-        lines.append(f"Wilcoxon signed-rank ({w['metric']}, hrc vs h-only, n={w['n']}): "
-                     f"W = {w['statistic']:g}, p = {w['p']:.3g}")
+    for key, label in (("kwear_integral_by_subject", "KWear integral ∫ΣV dt over repetitions × takt [s]"),
+                       ("kwear_integral_run_by_subject", "KWear integral over the whole run [s]"),
+                       ("duration_by_subject", "run duration [s]")):
+        loads = {mode: m.get(key, []) for mode, m in modes.items()}
+        if any(loads.values()):
+            lines.append(f"{label}: " + "; ".join(
+                f"{mode} mean {sum(v) / len(v):.1f}" for mode, v in loads.items() if v))
+    tests = summary.get("wilcoxon_by_metric") or {"kwear_integral": summary.get("wilcoxon") or {}}
+    for w in tests.values():
+        if w.get("p") is not None:
+            lines.append(f"Wilcoxon signed-rank ({w['metric']}, hrc vs h-only, n={w['n']}): "
+                         f"W = {w['statistic']:g}, p = {w['p']:.3g}")
     table = summary.get("allocation_table")
     if table:
         for key, rows in table.items():

@@ -30,6 +30,8 @@ class Segment:
     ``true`` (n, 22) [deg] drives the model; ``measured`` (n, 14) [deg] is what the suit reports (NaN rows are
     dropouts); ``rula`` (n, 7) part scores in :data:`RULA_PARTS` order and ``grand`` (n,), NaN on dropouts;
     ``g`` (n, 5) KWear inputs G_i (paper eq. 3); ``acting`` tells wear from recovery (eq. 3 vs eq. 5).
+    ``qpos`` (n, 22) is ``true`` in radians and ``scores`` (n, 24) the tick-log columns ``acting`` ..
+    ``rula_grand``, both computed once per segment: the per-tick loop only copies rows.
     """
 
     motion: ActionMotion
@@ -41,6 +43,8 @@ class Segment:
     acting: bool
     grasp_frame: int
     release_frame: int
+    qpos: np.ndarray
+    scores: np.ndarray
 
     @property
     def n(self) -> int:
@@ -63,7 +67,9 @@ class WorkerTrack:
         rate = motion.rate
         grasp = int(np.ceil(motion.t_grasp * rate)) if np.isfinite(motion.t_grasp) else -1
         release = int(np.ceil(motion.t_release * rate)) if np.isfinite(motion.t_release) else -1
-        return Segment(motion, motion.angles, measured, parts, grand, g, acting, grasp, release)
+        scores = np.column_stack([np.full(len(g), float(acting)), np.isnan(g[:, 0]), measured, parts, grand])
+        return Segment(motion, motion.angles, measured, parts, grand, g, acting, grasp, release,
+                       np.deg2rad(motion.angles), scores)
 
     def start_action(self, motion: ActionMotion) -> Segment:
         self.segment, self.index = self._measure(motion, acting=True), 0

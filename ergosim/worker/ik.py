@@ -17,6 +17,7 @@ Angles are in degrees at the interface (HUMAN_JOINTS order, (22,)), radians insi
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
 from typing import NamedTuple
 
@@ -135,6 +136,8 @@ class UpperBodyIK:
         self.hi = np.deg2rad(self.human.range_deg[:, 1])
         self.torso = model.body("human_torso").id
         self.neck = np.array([_IDX["neck_flexion"], _IDX["neck_lateral_bend"], _IDX["neck_rotation"]])
+        self._dof = {side: self.human.dofadr[act] for side, act in self.active.items()}
+        self._qadr_act = {side: self.human.qadr[act] for side, act in self.active.items()}
         self._jacp = np.zeros((3, model.nv))
         self._jacr = np.zeros((3, model.nv))
 
@@ -153,37 +156,52 @@ class UpperBodyIK:
         """
         pr = prior if prior is not None else self.prior
         act = self.active[side]
-        dof = self.human.dofadr[act]
+        dof = self._dof[side]
+        qadr = self._qadr_act[side]
         site = self.human.hand_site[side]
+        model, data = self.model, self.data
+        xpos, xmat = data.site_xpos[site], data.site_xmat[site].reshape(3, 3)
+        q = np.deg2rad(np.asarray(q0_deg, dtype=float))
         pref = np.deg2rad(pr.pref_deg[act])
-        pref[2] += self._trunk_turn(q0_deg, target, pr)  # act[2] is trunk_rotation
+        pref[2] += self._trunk_turn(q, target, pr)  # act[2] is trunk_rotation; leaves FK at q
         w2 = np.deg2rad(pr.sigma_deg[act]) ** -2.0
         lo_c, hi_c = np.deg2rad(pr.comfort_lo_deg[act]), np.deg2rad(pr.comfort_hi_deg[act])
         wc2 = np.deg2rad(pr.comfort_sigma_deg) ** -2.0
         lo, hi = self.lo[act], self.hi[act]
         n_task = 6 if target_rot is not None else 3
-        q = np.deg2rad(np.asarray(q0_deg, dtype=float)).copy()
+        diag = np.arange(n_task) * (n_task + 1)
         err = np.zeros(n_task)
         a = np.zeros((n_task, len(act)))
+        lam = np.empty(n_task)
+        jacp, jacr = self._jacp, self._jacr
 
         def merit(qa: np.ndarray, task_err: float) -> float:
+            d = qa - pref
             below, above = np.minimum(qa - lo_c, 0.0), np.maximum(qa - hi_c, 0.0)
-            return float(w2 @ (qa - pref) ** 2 + wc2 * (below @ below + above @ above)) + 2e4 * task_err
+            return float(w2 @ (d * d) + wc2 * (below @ below + above @ above)) + 2e4 * task_err
 
+        def task_error() -> float:  # of the current forward kinematics
+            e = xpos - target
+            err_t = math.sqrt(e @ e)
+            if target_rot is not None:
+                r = log_so3(target_rot @ xmat.T)
+                err_t += math.sqrt(r @ r)
+            return err_t
+
+        qa = q[act]
         it = 0
         for it in range(1, (max_iter or self.max_iter) + 1):
-            self._fk(q)
-            mujoco.mj_comPos(self.model, self.data)
-            mujoco.mj_jacSite(self.model, self.data, self._jacp, self._jacr, site)
-            err[:3] = target - self.data.site_xpos[site]
-            a[:3] = self._jacp[:, dof]
+            # forward kinematics are those of qa here (set by _trunk_turn or by the last line-search trial)
+            mujoco.mj_comPos(model, data)
+            mujoco.mj_jacSite(model, data, jacp, jacr, site)
+            np.subtract(target, xpos, out=err[:3])
+            a[:3] = jacp[:, dof]
             if target_rot is not None:
-                err[3:] = log_so3(target_rot @ self.data.site_xmat[site].reshape(3, 3).T)
-                a[3:] = self._jacr[:, dof]
+                err[3:] = log_so3(target_rot @ xmat.T)
+                a[3:] = jacr[:, dof]
+            pos_err = math.sqrt(err[:3] @ err[:3])
             # a linear step cannot be trusted far from the target: cap the task step per iteration
-            scale = min(1.0, 0.15 / max(np.linalg.norm(err[:3]), 1e-12))
-            b = err * scale
-            qa = q[act]
+            b = err * min(1.0, 0.15 / max(pos_err, 1e-12))
             below, above = qa < lo_c, qa > hi_c
             h = w2 + wc2 * (below | above)
             g = w2 * (qa - pref) + wc2 * (below * (qa - lo_c) + above * (qa - hi_c))
@@ -192,50 +210,47 @@ class UpperBodyIK:
             for _ in range(4):  # pin joints pushed past their range to it, re-solve the others
                 hinv = np.where(free, 1.0 / h, 0.0)
                 ah = a * hinv
-                kkt = ah @ a.T + 1e-8 * np.eye(n_task)
-                lam = np.linalg.solve(kkt, b - a @ fixed + ah @ g)
-                step = hinv * (a.T @ lam - g) + fixed
+                kkt = ah @ a.T
+                kkt.flat[diag] += 1e-8
+                mujoco.mju_cholFactor(kkt, 0.0)
+                mujoco.mju_cholSolve(lam, kkt, b - a @ fixed + ah @ g)
+                step = hinv * (lam @ a - g) + fixed
                 new = qa + step
                 out = free & ((new < lo) | (new > hi))
                 if not out.any():
                     break
-                fixed[out] = np.clip(new[out], lo[out], hi[out]) - qa[out]
+                fixed[out] = np.minimum(np.maximum(new[out], lo[out]), hi[out]) - qa[out]
                 free &= ~out
-            step = np.clip(qa + step, lo, hi) - qa
+            step = np.minimum(np.maximum(qa + step, lo), hi) - qa
             step *= min(1.0, 0.3 / max(np.abs(step).max(), 1e-12))
             # exact-penalty merit line search: keeps the SQP from cycling in the wrist/forearm null space
-            m0 = merit(qa, np.linalg.norm(err))
+            m0 = merit(qa, math.sqrt(err @ err))
             for _ in range(6):
-                q[act] = qa + step
-                if merit(q[act], self._task_error(q, target, target_rot, site)) < m0:
+                trial = qa + step
+                data.qpos[qadr] = trial
+                mujoco.mj_kinematics(model, data)
+                if merit(trial, task_error()) < m0:
                     break
                 step *= 0.5
-            if np.abs(step).max() < 1e-3 and np.linalg.norm(err[:3]) < self.s_pos:
+            qa = trial
+            if np.abs(step).max() < 1e-3 and pos_err < self.s_pos:
                 break
-        self._fk(q)
-        pos_err = float(np.linalg.norm(self.data.site_xpos[site] - target))
+        q[act] = qa
+        pos_err = float(np.linalg.norm(xpos - target))
         rot_err = 0.0
         if target_rot is not None:
-            rot = self.data.site_xmat[site].reshape(3, 3)
-            rot_err = float(np.rad2deg(np.linalg.norm(log_so3(target_rot @ rot.T))))
+            rot_err = float(np.rad2deg(np.linalg.norm(log_so3(target_rot @ xmat.T))))
         return IKSolution(np.rad2deg(q), pos_err, rot_err, it)
 
-    def _trunk_turn(self, q0_deg: np.ndarray, point: np.ndarray, pr: IKPrior) -> float:
-        """Trunk rotation [rad] needed so that neck + eyes can face ``point`` comfortably."""
-        self._fk(np.deg2rad(q0_deg))
+    def _trunk_turn(self, q: np.ndarray, point: np.ndarray, pr: IKPrior) -> float:
+        """Trunk rotation [rad] needed so that neck + eyes can face ``point`` comfortably, for posture ``q``
+        [rad]; leaves the forward kinematics at ``q``."""
+        self._fk(q)
         root = self.data.xmat[self.human.root_body].reshape(3, 3)
         d = root.T @ (point - self.data.site_xpos[self.human.eye_site])
         az = np.arctan2(d[1], d[0])
         reach = np.deg2rad(pr.neck_turn_deg + pr.eye_side_deg)
         return float(az - np.clip(az, -reach, reach))
-
-    def _task_error(self, q: np.ndarray, target: np.ndarray, target_rot: np.ndarray | None,
-                    site: int) -> float:
-        self._fk(q)
-        e = np.linalg.norm(self.data.site_xpos[site] - target)
-        if target_rot is not None:
-            e += np.linalg.norm(log_so3(target_rot @ self.data.site_xmat[site].reshape(3, 3).T))
-        return float(e)
 
     def look_at(self, angles_deg: np.ndarray, point: np.ndarray, prior: IKPrior | None = None) -> np.ndarray:
         """Neck angles that point the gaze at ``point`` (3,) [m]; returns a new (22,) array [deg].
@@ -274,9 +289,13 @@ class UpperBodyIK:
     def hand_path(self, angles_deg: np.ndarray, side: str = "right") -> np.ndarray:
         """(n, 3) grasp-point positions for (n, 22) angles [deg] (forward kinematics per row)."""
         out = np.empty((len(angles_deg), 3))
-        site = self.human.hand_site[side]
-        qrad = np.deg2rad(angles_deg)
-        for k in range(len(qrad)):
-            self._fk(qrad[k])
-            out[k] = self.data.site_xpos[site]
+        xpos = self.data.site_xpos[self.human.hand_site[side]]
+        qpos = self.data.qpos
+        rows = np.empty((len(angles_deg), self.model.nq))
+        rows[:] = qpos
+        rows[:, self.human.qadr] = np.deg2rad(angles_deg)  # whole qpos rows: one plain copy per frame
+        for k in range(len(rows)):
+            qpos[:] = rows[k]
+            mujoco.mj_kinematics(self.model, self.data)
+            out[k] = xpos
         return out

@@ -139,14 +139,18 @@ class Worker:
         prior = self.subject.prior().jittered(rng, self.subject.variability_deg)
         ik, side = self.ik, self.side
 
-        def pose(q0: np.ndarray, point: np.ndarray, look: np.ndarray, rot: np.ndarray | None = None,
-                 max_iter: int | None = None):
-            sol = ik.solve(q0, point, side, target_rot=rot, prior=prior, max_iter=max_iter)
-            return ik.look_at(sol.angles, look, prior), sol
+        def solve(q0: np.ndarray, point: np.ndarray, rot: np.ndarray | None = None,
+                  max_iter: int | None = None):
+            return ik.solve(q0, point, side, target_rot=rot, prior=prior, max_iter=max_iter)
+
+        def look(sol, point: np.ndarray) -> np.ndarray:
+            return ik.look_at(sol.angles, point, prior)
 
         above_part = self._approach(part_pos, self.rest)
-        k1, _ = pose(self.rest, above_part, part_pos)
-        k2, grasp = pose(k1, part_pos, part_pos)
+        lift = solve(self.rest, above_part)  # approach and lift share their hand target and their posture
+        k1 = look(lift, part_pos)
+        grasp = solve(k1, part_pos)
+        k2 = look(grasp, part_pos)
         hand_p, hand_r = ik.hand_pose(k2, side)
         part_in_hand = hand_r.T @ (part_pos - hand_p)
         rot_in_hand = hand_r.T @ part_rot
@@ -156,18 +160,24 @@ class Worker:
         # orientation error of the part is reported (``place_rot_error_deg``).
         place_rot = tgt_rot @ rot_in_hand.T
         place_pos = tgt_pos - place_rot @ part_in_hand
-        k3, _ = pose(k2, above_part, tgt_pos)
+        k3 = look(lift, tgt_pos)
         above_tgt = self._approach(place_pos, k3)
-        k5, place = pose(k3, place_pos, tgt_pos, place_rot, max_iter=25)
-        if place.pos_error > self.PLACE_TOL:
-            k5, place = pose(k3, tgt_pos, tgt_pos)
-            _, hand_r5 = ik.hand_pose(k5, side)
+        place = solve(k3, place_pos, place_rot, max_iter=25)
+        keep_grip = place.pos_error <= self.PLACE_TOL
+        if not keep_grip:
+            place = solve(k3, tgt_pos)
+            _, hand_r5 = ik.hand_pose(place.angles, side)
             rot_err = np.rad2deg(np.linalg.norm(log_so3(tgt_rot @ (hand_r5 @ rot_in_hand).T)))
             place = place._replace(rot_error_deg=float(rot_err))
-            k4, _ = pose(k3, above_tgt, tgt_pos)
-        else:
-            k4, _ = pose(k5, above_tgt, tgt_pos, place_rot)
-        k6, _ = pose(k5, above_tgt, tgt_pos)
+        k5 = look(place, tgt_pos)
+        k6 = look(solve(k5, above_tgt), tgt_pos)
+        # Lowering onto the target keeps the grip's orientation where that converges quickly; otherwise (and
+        # when the place pose is position-only) the hand comes down through the retreat pose.
+        k4 = k6
+        if keep_grip:
+            down = solve(k5, above_tgt, place_rot, max_iter=25)
+            if down.pos_error <= self.PLACE_TOL:
+                k4 = look(down, tgt_pos)
 
         keys = [self.rest, k1, k2, k2, k3, k4, k5, k5, k5, k6, self.rest]
         hands = np.array([ik.hand_pos(k, side) for k in keys])
