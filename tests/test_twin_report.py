@@ -81,7 +81,7 @@ def test_scenarios_validate_and_reject_bad_values():
 
 
 def test_kwear_integral_covers_the_production_schedule_only():
-    """The headline load proxy integrates over repetitions × takt; the whole-run integral is kept beside it."""
+    """The headline load proxy integrates over repetitions × takt; the whole-run one is kept beside it."""
     run = _run(0, "hrc", ["human"] * 5, 0.5)
     t_col = TICK_COLUMNS.index("t")
     rows = run.ticks.rows.copy()
