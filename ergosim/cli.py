@@ -16,7 +16,7 @@ from ergosim.errors import ErgosimError
 
 __all__ = ["main", "build_parser"]
 
-COMMANDS = ("plan", "run")
+COMMANDS = ("plan", "run", "replay")
 
 
 def build_parser() -> argparse.ArgumentParser:

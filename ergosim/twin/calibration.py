@@ -8,20 +8,32 @@ part is then put where the action leaves it (placed on its target, or seated in 
 action sees the right scene: postures depend on where things are, not on how the part got there, so the
 passes skip the physics. Passes are recorded lazily, as many as the adaptive-η procedure of
 :func:`ergosim.ergonomics.calibration.calibrate` asks for.
+
+:func:`calibrate_subject` is the one call that does all of it for a subject in a named scene and stores
+the result (α per action and joint, eq. 9; G(a_k); η) in a per-worker
+:class:`~ergosim.ergonomics.param_store.ParamStore`.
 """
 
 from __future__ import annotations
 
+import os
 from collections.abc import Sequence
+from typing import Any
 
 import mujoco
 import numpy as np
 
 from ergosim.ergonomics.calibration import Calibration, Execution, calibrate
 from ergosim.ergonomics.kwear import KWearParams
+from ergosim.ergonomics.param_store import ParamStore, WorkerParams
+from ergosim.errors import ConfigError
+from ergosim.scenes import build_scene
 from ergosim.twin.worker_track import WorkerTrack
+from ergosim.worker.motion import Worker
+from ergosim.worker.stream import MocapStream
+from ergosim.worker.subjects import Subject
 
-__all__ = ["SceneCalibration", "put_part"]
+__all__ = ["SceneCalibration", "put_part", "calibrate_subject"]
 
 
 def put_part(cell, part: str, pos: np.ndarray, quat: np.ndarray) -> None:
@@ -74,3 +86,42 @@ class SceneCalibration:
 
     def run(self, params: KWearParams, *, eta0: int, eta_max: int, v_des: float) -> Calibration:
         return calibrate(self.actions, self.execute, params, eta0=eta0, eta_max=eta_max, v_des=v_des)
+
+
+def calibrate_subject(scene: str, subject: Subject, *,
+                      store: ParamStore | str | os.PathLike[str] | None = None, worker_id: str | None = None,
+                      eta0: int = 2, eta_max: int = 10, v_des: float = 1e-3, seed: int = 0,
+                      mocap_rate: float = 60.0, ergonomics_rate: float = 20.0, dropout_rate: float = 0.0,
+                      **scene_overrides: Any) -> Calibration:
+    """Calibrate ``subject`` in workcell ``scene`` (a registered scene name) and optionally store the result.
+
+    The workcell is built for the subject's body, stature and segment scaling, as the twin builds it
+    (``scene_overrides`` fix any layout field by name, these included). Every action of the scene is
+    recorded from zero wear in the task's order, as many passes as the adaptive η asks for (paper §5):
+    ``eta0`` >= 2 executions first, more while some |V̂ - V_l| >= ``v_des`` (Ṽ_des), at most ``eta_max``. The
+    mocap stream runs at ``mocap_rate`` [Hz] with the subject's sensor noise and ``dropout_rate`` (per frame,
+    as :class:`MocapStream`); G_i is sampled at ``ergonomics_rate`` [Hz], a whole divisor of the mocap rate.
+    All randomness (posture and timing variability, sensor noise) comes from ``np.random.default_rng(seed)``.
+
+    ``store``: a :class:`ParamStore` or its directory; if given, the subject's KWear constants, α_{k,i},
+    G(a_k) and η are saved as worker ``worker_id`` (default ``subject.name``). Returns the
+    :class:`~ergosim.ergonomics.calibration.Calibration` (per action: α, η, errors, converged).
+    """
+    ratio = mocap_rate / ergonomics_rate if mocap_rate > 0 and ergonomics_rate > 0 else 0.0
+    if not (ratio >= 1 and abs(ratio - round(ratio)) < 1e-9):
+        raise ConfigError(f"mocap_rate ({mocap_rate} Hz) must be a whole multiple of ergonomics_rate "
+                          f"({ergonomics_rate} Hz)", where="calibrate_subject")
+    wid = subject.name if worker_id is None else worker_id
+    if store is not None:
+        store = store if isinstance(store, ParamStore) else ParamStore(store)
+        store.path(wid)  # a bad worker id fails before any motion is recorded
+    rng = np.random.default_rng(seed)
+    cell = build_scene(scene, **{"stature": subject.stature, "human_scale": subject.scale, **scene_overrides})
+    worker = Worker(subject, rate=mocap_rate)
+    track = WorkerTrack(worker, MocapStream(subject, rng, rate=mocap_rate, dropout_rate=dropout_rate))
+    tick_every = int(round(ratio))
+    recorder = SceneCalibration(tuple(cell.actions), cell, track, rng, tick_every, tick_every / mocap_rate)
+    result = recorder.run(subject.kwear_params(), eta0=eta0, eta_max=eta_max, v_des=v_des)
+    if store is not None:
+        store.save(WorkerParams.from_calibration(wid, result))
+    return result

@@ -1,0 +1,164 @@
+"""``ergosim replay FILE.bvh``: a real motion-capture recording through RULA and KWear (paper eq. 3-5).
+
+ergosim replay FILE.bvh [--out DIR] [--rate HZ] [--worker ID --store PATH]
+
+The BVH skeleton is mapped onto the canonical angles (docs/bvh.md), sampled at the ergonomics rate and
+replayed through :func:`ergosim.worker.replay`, the path the twin's own recordings take: RULA per body part
+per tick, then KWear per joint from zero wear. A recording carries no action boundaries, so every tick
+counts as acting (wear, eq. 3-4). Writes ``DIR/ticks.csv`` (:data:`~ergosim.worker.REPLAY_COLUMNS`) and
+``DIR/summary.json``, both atomically.
+"""
+
+from __future__ import annotations
+
+import argparse
+import io
+import math
+from pathlib import Path
+
+import numpy as np
+
+from ergosim.errors import ConfigError, RecordingError
+
+__all__ = ["add_parser", "run", "replay_summary", "summary_lines", "write_ticks"]
+
+_DEFAULT_OUT = Path("results") / "replay"
+
+
+def add_parser(sub) -> argparse.ArgumentParser:
+    p = sub.add_parser(
+        "replay", help="replay a BVH motion-capture recording through RULA and KWear",
+        description="Load a BVH recording (Xsens, Vicon, OptiTrack, ...) onto the canonical angles, score "
+                    "RULA per body part at the ergonomics rate and integrate KWear per joint from zero wear; "
+                    "write ticks.csv and summary.json to --out.",
+    )
+    p.add_argument("file", metavar="FILE.bvh", help="the recording")
+    p.add_argument("--out", default=None, metavar="DIR",
+                   help=f"output directory (default {_DEFAULT_OUT}/<file name without .bvh>)")
+    p.add_argument("--rate", type=float, default=20.0, metavar="HZ",
+                   help="ergonomics rate [Hz] (default 20, as in the paper)")
+    p.add_argument("--worker", metavar="ID", help="take the KWear constants of this worker from --store")
+    p.add_argument("--store", metavar="PATH", help="parameter-store directory (with --worker)")
+    return p
+
+
+def _kwear_params(args):
+    """(KWearParams, worker id or None): the stored worker's constants, else the paper's defaults."""
+    from ergosim.ergonomics.kwear import KWearParams  # noqa: PLC0415 - keep `ergosim --help` fast
+    from ergosim.ergonomics.param_store import ParamStore  # noqa: PLC0415
+
+    if (args.worker is None) != (args.store is None):
+        raise ConfigError("give --worker and --store together (or neither, for the paper's KWear constants)",
+                          where="--worker" if args.store is None else "--store")
+    if args.worker is None:
+        return KWearParams(), None
+    return ParamStore(args.store).load(args.worker).kwear, args.worker
+
+
+def _load(path: Path):
+    from ergosim.worker.bvh import load_bvh  # noqa: PLC0415
+
+    if not path.exists():
+        raise RecordingError("no such file", where=str(path))
+    if path.is_dir():
+        raise RecordingError("is a directory, expected a BVH file", where=str(path))
+    return load_bvh(path)
+
+
+def _stat(x: np.ndarray) -> dict[str, float | None]:
+    """Mean and max over the valid (non-NaN) ticks; None if there are none (JSON has no NaN)."""
+    x = x[np.isfinite(x)]
+    if x.size == 0:
+        return {"mean": None, "max": None}
+    return {"mean": float(x.mean()), "max": float(x.max())}
+
+
+def replay_summary(trace, recording, params, worker: str | None) -> dict:
+    """summary.json of a replay: the recording, the ergonomics settings, dropouts, RULA mean/max per body part
+    (valid ticks) and grand, and KWear V per joint after the last tick."""
+    from ergosim.posture import KWEAR_JOINTS  # noqa: PLC0415
+    from ergosim.worker import RULA_PARTS  # noqa: PLC0415
+
+    return {
+        "source": str(recording.source),
+        "frames": int(recording.n_frames),
+        "frame_rate_hz": float(recording.rate_hz),
+        "duration_s": recording.n_frames / recording.rate_hz,
+        "ergonomics_rate_hz": trace.rate,
+        "ticks": trace.n,
+        "dropouts": trace.dropouts,
+        "mapping": dict(recording.mapping),
+        "kwear": {
+            "worker": worker,
+            "params": {"t_max": params.t_max, "v_max": params.v_max, "g_avg": params.g_avg},
+            "final": {j: float(v) for j, v in zip(KWEAR_JOINTS, trace.v_end, strict=True)},
+        },
+        "rula": {
+            "parts": {p: _stat(trace.rula[:, i]) for i, p in enumerate(RULA_PARTS)},
+            "grand": _stat(trace.grand),
+        },
+    }
+
+
+def write_ticks(path: Path, trace) -> None:
+    """ticks.csv: :data:`REPLAY_COLUMNS`, one row per ergonomics tick (NaN = dropout), atomically."""
+    from ergosim.atomic import atomic_open  # noqa: PLC0415
+    from ergosim.worker import REPLAY_COLUMNS  # noqa: PLC0415
+
+    buf = io.StringIO()
+    # 9 significant digits, as the twin's ticks.csv
+    np.savetxt(buf, trace.table(), fmt="%.9g", delimiter=",")
+    with atomic_open(path, "w") as f:
+        f.write(",".join(REPLAY_COLUMNS) + "\n")
+        f.write(buf.getvalue())
+
+
+def _fmt(x: float | None, spec: str) -> str:
+    return "-" if x is None or not math.isfinite(x) else format(x, spec)
+
+
+def summary_lines(summary: dict) -> list[str]:
+    """The summary as a few readable lines."""
+    s, kw = summary, summary["kwear"]
+    p = kw["params"]
+    who = (f"worker {kw['worker']}" if kw["worker"] else "paper defaults")
+    lines = [
+        f"replayed {Path(s['source']).name}: {s['frames']} frames at {s['frame_rate_hz']:g} Hz "
+        f"({s['duration_s']:.2f} s) -> {s['ticks']} ticks at {s['ergonomics_rate_hz']:g} Hz, "
+        f"{s['dropouts']} dropouts",
+        f"KWear constants: {who} (T_max {p['t_max']:g} s, V_max {p['v_max']:g}, G_avg {p['g_avg']:g})",
+        "RULA          mean  max",
+    ]
+    rows = [*s["rula"]["parts"].items(), ("grand", s["rula"]["grand"])]
+    lines += [f"  {name:<11} {_fmt(st['mean'], '5.2f')} {_fmt(st['max'], '4.0f')}" for name, st in rows]
+    lines.append("KWear V at the end: " + ", ".join(f"{j} {v:.4f}" for j, v in kw["final"].items()))
+    return lines
+
+
+def run(args) -> int:
+    from ergosim.atomic import write_json  # noqa: PLC0415
+    from ergosim.posture import ANGLE_NAMES  # noqa: PLC0415
+    from ergosim.worker import replay  # noqa: PLC0415
+
+    if not (math.isfinite(args.rate) and args.rate > 0):
+        raise ConfigError(f"must be a positive number of Hz, got {args.rate:g}", where="--rate")
+    params, worker = _kwear_params(args)
+    path = Path(args.file)
+    recording = _load(path)
+    if args.rate > recording.rate_hz:
+        raise ConfigError(f"ergonomics rate {args.rate:g} Hz is above the recording's frame rate "
+                          f"{recording.rate_hz:g} Hz", where="--rate")
+    trace = replay(recording.array(ANGLE_NAMES), recording.rate_hz, params, rate=args.rate)
+    if trace.n == 0:
+        raise RecordingError(f"the recording lasts {recording.n_frames / recording.rate_hz:.3g} s, shorter "
+                             f"than one ergonomics tick ({1.0 / args.rate:.3g} s)", where=str(path))
+    out = Path(args.out) if args.out else _DEFAULT_OUT / path.stem
+    summary = replay_summary(trace, recording, params, worker)
+    try:
+        write_ticks(out / "ticks.csv", trace)
+        write_json(out / "summary.json", summary)
+    except OSError as err:
+        raise ConfigError(f"cannot write the results: {err.strerror or err}", where=str(out)) from None
+    print("\n".join(summary_lines(summary)))
+    print(f"\nresults: {out.resolve()} (ticks.csv, summary.json)")
+    return 0
