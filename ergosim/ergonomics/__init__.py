@@ -28,6 +28,7 @@ from ergosim.ergonomics.param_store import ParamStore, WorkerParams
 from ergosim.ergonomics.risk_index import KWearIndex, RiskIndex, StaticRulaIndex
 from ergosim.ergonomics.rula import (
     RULA_INPUTS,
+    RULA_PARTS,
     RulaResult,
     RulaThresholds,
     action_level,
@@ -41,6 +42,7 @@ from ergosim.ergonomics.rula import (
 __all__ = [
     # RULA
     "RULA_INPUTS",
+    "RULA_PARTS",
     "RulaResult",
     "RulaThresholds",
     "rula",

@@ -34,6 +34,7 @@ __all__ = [
     "RulaThresholds",
     "RulaResult",
     "RULA_INPUTS",
+    "RULA_PARTS",
     "rula",
     "table_a",
     "table_b",
@@ -81,6 +82,11 @@ class RulaResult(NamedTuple):
     grand: float | np.ndarray
     action_level: float | np.ndarray
     valid: bool | np.ndarray
+
+
+RULA_PARTS: tuple[str, ...] = RulaResult._fields[:7]
+"""RULA's body-part scores, in :class:`RulaResult` order: upper_arm, lower_arm, wrist, wrist_twist, neck,
+trunk, legs."""
 
 
 # -- tables --

@@ -11,11 +11,11 @@ import math
 
 import numpy as np
 
+from ergosim.ergonomics.rula import RULA_PARTS
 from ergosim.posture import ANGLE_NAMES, KWEAR_JOINTS
 
 __all__ = ["Allocation", "TickLog", "SubjectRun", "RULA_PARTS", "TICK_COLUMNS"]
 
-RULA_PARTS = ("upper_arm", "lower_arm", "wrist", "wrist_twist", "neck", "trunk", "legs")
 
 TICK_COLUMNS: tuple[str, ...] = (
     ("repetition", "t", "acting", "dropout")

@@ -17,8 +17,8 @@ import mujoco
 import numpy as np
 import rerun as rr
 
+from ergosim.ergonomics.rula import RULA_PARTS
 from ergosim.posture import ANGLE_NAMES, KWEAR_JOINTS
-from ergosim.twin.records import RULA_PARTS
 from ergosim.viz import paths, styles
 from ergosim.viz.columns import ColumnBuffer
 from ergosim.viz.geometry import SceneBody, scene_bodies

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import rerun as rr
 
+from ergosim.ergonomics.rula import RULA_PARTS
 from ergosim.posture import ANGLE_NAMES, KWEAR_JOINTS
-from ergosim.twin.records import RULA_PARTS
 
 __all__ = ["PALETTE", "JOINT_COLORS", "RULA_COLORS", "ANGLE_COLORS", "AGENT_COLORS", "agent_color",
            "kwear_style", "threshold_style", "rula_style", "angle_style", "decision_style"]

@@ -22,14 +22,12 @@ import numpy as np
 
 from ergosim.ergonomics.kwear import KWearParams
 from ergosim.ergonomics.risk_index import KWearIndex
-from ergosim.ergonomics.rula import RulaResult, part_scores, rula
+from ergosim.ergonomics.rula import RULA_PARTS, part_scores, rula
 from ergosim.errors import ConfigError, RecordingError
 from ergosim.posture import ANGLE_NAMES, KWEAR_JOINTS, array_to_posture
 
 __all__ = ["RULA_PARTS", "REPLAY_COLUMNS", "ReplayTrace", "score_frames", "tick_indices", "replay"]
 
-RULA_PARTS: tuple[str, ...] = RulaResult._fields[:7]
-"""RULA's body-part scores, in :class:`~ergosim.ergonomics.rula.RulaResult` order."""
 
 REPLAY_COLUMNS: tuple[str, ...] = (
     ("t", "acting", "dropout")
