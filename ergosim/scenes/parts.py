@@ -23,6 +23,12 @@ ALUMINIUM_DENSITY = 2700.0
 """[kg/m^3]"""
 
 PROFILES = ("L", "S1", "S2")
+
+PART_COLLISION = dict(contype=4, conaffinity=3)
+"""Collision bits of the parts: their own bit 4, accepting bits 1 (furniture, floor) and 2 (the robot).
+Parts therefore never collide with each other: a profile carried past one already seated must not knock
+the assembly, and insertion itself is a weld (Workcell.seat), not a contact fit."""
+
 PARTS = ("J", *PROFILES)
 HOLLOW_AXES = {"x": np.array([1.0, 0, 0]), "y": np.array([0, 1.0, 0]), "z": np.array([0, 0, 1.0])}
 """The three hollows of J, by the axis of J's frame they open along."""
@@ -101,7 +107,7 @@ def add_corner_joint(parent: mujoco.MjsBody, dims: PartDims, pos, quat,
     # Collision shape: the outer envelope of core + sleeves as three massless boxes (core with the x
     # sleeve, the y sleeve, the z sleeve). The profiles never collide with J (insertion is a weld), so the
     # hollows need no contact geometry, and 3 boxes instead of 13 keep contacts few and the sim fast.
-    solid = dict(group=3, density=0, rgba=list(rgba))
+    solid = dict(group=3, density=0, rgba=list(rgba), **PART_COLLISION)
     body.add_geom(name="J_collision_x", type=box, size=[c + half_len, c, c], pos=[half_len, 0, 0], **solid)
     body.add_geom(name="J_collision_y", type=box, size=[c, half_len, c], pos=[0, c + half_len, 0], **solid)
     body.add_geom(name="J_collision_z", type=box, size=[c, c, half_len], pos=[0, 0, c + half_len], **solid)
@@ -122,7 +128,7 @@ def add_profile(parent: mujoco.MjsBody, dims: PartDims, name: str, pos, quat,
     body.add_freejoint(name=name)
     w = dims.profile_width / 2
     body.add_geom(name=f"{name}_geom", type=mujoco.mjtGeom.mjGEOM_BOX, size=[length / 2, w, w],
-                  mass=dims.profile_mass(name), rgba=list(rgba))
+                  mass=dims.profile_mass(name), rgba=list(rgba), **PART_COLLISION)
     body.add_site(name=f"{name}_grasp", quat=[0, 0, 1, 0], group=4)  # rot pi about y: z -> -z, x -> -x
     # TCP x = local z, y = local y, z = -local x: rotation of -90 deg about local y
     body.add_site(name=f"{name}_grasp_end", pos=[length / 2 - 0.025, 0, 0],

@@ -59,25 +59,11 @@ class Rig:
     graph: object
 
 
-def _separate_parts(model) -> None:
-    """Parts collide with furniture, fingers and the floor but not with each other: a profile carried past
-    one already seated must not knock the assembly (insertion itself is a weld, not a contact fit).
-    Bit 4 is the parts' own contype; they still accept bits 1 (furniture) and 2 (robot)."""
-    from ergosim.scenes.parts import PARTS  # noqa: PLC0415
-
-    ids = {model.body(p).id for p in PARTS}
-    for g in range(model.ngeom):
-        if model.geom_bodyid[g] in ids and model.geom_contype[g]:
-            model.geom_contype[g] = 4
-            model.geom_conaffinity[g] = 3
-
-
 def build_rig(cfg: ScenarioConfig, subject: Subject, rng: np.random.Generator,
               scene_overrides: Mapping[str, str], record_bodies: bool = False,
               alphas: Mapping[str, np.ndarray] | None = None) -> Rig:
     overrides = {"stature": subject.stature, "human_scale": subject.scale, **dict(scene_overrides)}
     cell = build_scene(cfg.scene, **overrides)
-    _separate_parts(cell.model)
     worker = Worker(subject, rate=cfg.mocap_rate)
     stream = MocapStream(subject, rng, rate=cfg.mocap_rate, dropout_rate=cfg.dropout_rate,
                          noise=cfg.noise_scale > 0)
