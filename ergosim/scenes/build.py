@@ -125,9 +125,14 @@ def attach_panda(spec: mujoco.MjSpec, cfg: WorkcellConfig, support_height: float
 def attach_human(spec: mujoco.MjSpec, cfg: WorkcellConfig) -> bool:
     """Attach the kinematic human at the worker position; False when no human model is available."""
     frame = spec.worldbody.add_frame(name="worker", pos=[*cfg.worker_xy, 0.0], quat=yaw_quat(cfg.worker_yaw))
+    human = human_spec(cfg.stature, dict(cfg.human_scale), keyframe=None)
+    # The pose comes from motion capture, whose IK already keeps every angle inside the range of motion: in
+    # the scene the ranges stay as data (jnt_range) but are not limit constraints, which would push the
+    # body away from the measured pose between frames (and cost solver time while the worker moves).
+    for joint in human.body("human_pelvis").find_all(mujoco.mjtObj.mjOBJ_JOINT):
+        joint.limited = mujoco.mjtLimited.mjLIMITED_FALSE
     with _quiet_attach():
-        frame.attach_body(human_spec(cfg.stature, dict(cfg.human_scale), keyframe=None).body("human_pelvis"),
-                          "", "")
+        frame.attach_body(human.body("human_pelvis"), "", "")
     return True
 
 
