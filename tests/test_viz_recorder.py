@@ -14,10 +14,10 @@ import pytest
 import rerun as rr
 from scipy.spatial.transform import Rotation
 
+from ergosim.ergonomics.rula import RULA_PARTS
 from ergosim.posture import ANGLE_NAMES, KWEAR_JOINTS
 from ergosim.robot.assets import panda_mesh_dir
 from ergosim.scenes import PARTS, build_scene
-from ergosim.twin.records import RULA_PARTS
 from ergosim.viz import (
     RecordingReader,
     TwinRecorder,

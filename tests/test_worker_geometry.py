@@ -11,10 +11,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from ergosim.ergonomics.rula import RULA_PARTS
 from ergosim.human.model import HumanModel
 from ergosim.scenes import build_scene
 from ergosim.twin.calibration import put_part
-from ergosim.worker import RULA_PARTS, Subject, Worker, make_subjects, score_frames
+from ergosim.worker import Subject, Worker, make_subjects, score_frames
 
 UA, TRUNK = RULA_PARTS.index("upper_arm"), RULA_PARTS.index("trunk")
 REACH_TOL = 0.02  # m

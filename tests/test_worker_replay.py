@@ -19,7 +19,7 @@ from ergosim.cli import main
 from ergosim.ergonomics.kwear import KWearParams, kwear_step
 from ergosim.ergonomics.param_store import ParamStore, WorkerParams
 from ergosim.ergonomics.risk_index import KWearIndex
-from ergosim.ergonomics.rula import part_scores, rula
+from ergosim.ergonomics.rula import RULA_PARTS, part_scores, rula
 from ergosim.errors import ConfigError, RecordingError
 from ergosim.human.model import HumanModel
 from ergosim.posture import ANGLE_NAMES, KWEAR_JOINTS, array_to_posture
@@ -29,7 +29,6 @@ from ergosim.twin.records import TICK_COLUMNS
 from ergosim.twin.worker_track import WorkerTrack
 from ergosim.worker import (
     REPLAY_COLUMNS,
-    RULA_PARTS,
     MocapStream,
     Subject,
     Worker,

@@ -76,8 +76,8 @@ def _stat(x: np.ndarray) -> dict[str, float | None]:
 def replay_summary(trace, recording, params, worker: str | None) -> dict:
     """summary.json of a replay: the recording, the ergonomics settings, dropouts, RULA mean/max per body part
     (valid ticks) and grand, and KWear V per joint after the last tick."""
+    from ergosim.ergonomics.rula import RULA_PARTS  # noqa: PLC0415
     from ergosim.posture import KWEAR_JOINTS  # noqa: PLC0415
-    from ergosim.worker import RULA_PARTS  # noqa: PLC0415
 
     return {
         "source": str(recording.source),

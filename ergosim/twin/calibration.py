@@ -17,7 +17,7 @@ the result (α per action and joint, eq. 9; G(a_k); η) in a per-worker
 from __future__ import annotations
 
 import os
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import mujoco
@@ -29,8 +29,6 @@ from ergosim.ergonomics.param_store import ParamStore, WorkerParams
 from ergosim.errors import ConfigError
 from ergosim.scenes import build_scene
 from ergosim.twin.worker_track import WorkerTrack
-from ergosim.worker.motion import Worker
-from ergosim.worker.stream import MocapStream
 from ergosim.worker.subjects import Subject
 
 __all__ = ["SceneCalibration", "put_part", "calibrate_subject"]
@@ -84,8 +82,28 @@ class SceneCalibration:
             self._record_pass()
         return self.passes[l][action]
 
+    @classmethod
+    def for_subject(cls, scene: str, subject: Subject, rng: np.random.Generator, *, mocap_rate: float,
+                    ergonomics_rate: float, actions: Sequence[str] | None = None, dropout_rate: float = 0.0,
+                    noise: bool = True, scene_overrides: Mapping[str, Any] | None = None) -> SceneCalibration:
+        """The recorder for ``subject`` in workcell ``scene``, built for the subject's body (as the twin
+        builds it; ``scene_overrides`` win), its mocap stream drawing from ``rng``. ``actions``: the order of
+        a pass (default: the scene's)."""
+        cell = build_scene(scene, **{**subject.workcell_fields, **dict(scene_overrides or {})})
+        track = WorkerTrack.for_subject(subject, rng, rate=mocap_rate, dropout_rate=dropout_rate, noise=noise)
+        tick_every = int(round(mocap_rate / ergonomics_rate))
+        return cls(tuple(cell.actions) if actions is None else actions, cell, track, rng, tick_every,
+                   tick_every * (1.0 / mocap_rate))
+
     def run(self, params: KWearParams, *, eta0: int, eta_max: int, v_des: float) -> Calibration:
         return calibrate(self.actions, self.execute, params, eta0=eta0, eta_max=eta_max, v_des=v_des)
+
+
+def _check_rates(mocap_rate: float, ergonomics_rate: float) -> None:
+    ratio = mocap_rate / ergonomics_rate if mocap_rate > 0 and ergonomics_rate > 0 else 0.0
+    if not (ratio >= 1 and abs(ratio - round(ratio)) < 1e-9):
+        raise ConfigError(f"mocap_rate ({mocap_rate} Hz) must be a whole multiple of ergonomics_rate "
+                          f"({ergonomics_rate} Hz)", where="calibrate_subject")
 
 
 def calibrate_subject(scene: str, subject: Subject, *,
@@ -107,20 +125,15 @@ def calibrate_subject(scene: str, subject: Subject, *,
     G(a_k) and η are saved as worker ``worker_id`` (default ``subject.name``). Returns the
     :class:`~ergosim.ergonomics.calibration.Calibration` (per action: α, η, errors, converged).
     """
-    ratio = mocap_rate / ergonomics_rate if mocap_rate > 0 and ergonomics_rate > 0 else 0.0
-    if not (ratio >= 1 and abs(ratio - round(ratio)) < 1e-9):
-        raise ConfigError(f"mocap_rate ({mocap_rate} Hz) must be a whole multiple of ergonomics_rate "
-                          f"({ergonomics_rate} Hz)", where="calibrate_subject")
+    _check_rates(mocap_rate, ergonomics_rate)
     wid = subject.name if worker_id is None else worker_id
     if store is not None:
         store = store if isinstance(store, ParamStore) else ParamStore(store)
         store.path(wid)  # a bad worker id fails before any motion is recorded
     rng = np.random.default_rng(seed)
-    cell = build_scene(scene, **{"stature": subject.stature, "human_scale": subject.scale, **scene_overrides})
-    worker = Worker(subject, rate=mocap_rate)
-    track = WorkerTrack(worker, MocapStream(subject, rng, rate=mocap_rate, dropout_rate=dropout_rate))
-    tick_every = int(round(ratio))
-    recorder = SceneCalibration(tuple(cell.actions), cell, track, rng, tick_every, tick_every / mocap_rate)
+    recorder = SceneCalibration.for_subject(scene, subject, rng, mocap_rate=mocap_rate,
+                                            ergonomics_rate=ergonomics_rate, dropout_rate=dropout_rate,
+                                            scene_overrides=scene_overrides)
     result = recorder.run(subject.kwear_params(), eta0=eta0, eta_max=eta_max, v_des=v_des)
     if store is not None:
         store.save(WorkerParams.from_calibration(wid, result))

@@ -83,9 +83,7 @@ class Plant:
     # -- one control tick ----------------------------------------------------------------------------------
     def step(self) -> None:
         track = self.track
-        seg = track.segment
-        if seg is None or track.index >= seg.n:
-            seg = track.start_rest(1.0)
+        seg = track.start_rest(1.0) if track.exhausted else track.segment
         k = track.advance()
         d = self.data
         d.qpos[self._qadr] = seg.qpos[k]

@@ -14,7 +14,7 @@ import numpy as np
 from ergosim.ergonomics.rula import RULA_PARTS
 from ergosim.posture import ANGLE_NAMES, KWEAR_JOINTS
 
-__all__ = ["Allocation", "TickLog", "SubjectRun", "RULA_PARTS", "TICK_COLUMNS"]
+__all__ = ["Allocation", "TickLog", "SubjectRun", "TICK_COLUMNS"]
 
 
 TICK_COLUMNS: tuple[str, ...] = (

@@ -27,7 +27,6 @@ from ergosim.twin.scenario import ScenarioConfig
 from ergosim.twin.session import Session
 from ergosim.twin.worker_track import WorkerTrack
 from ergosim.worker.motion import Worker
-from ergosim.worker.stream import MocapStream
 from ergosim.worker.subjects import Subject, make_subjects
 
 __all__ = ["SubjectResult", "Rig", "build_rig", "run_subject"]
@@ -62,12 +61,10 @@ class Rig:
 def build_rig(cfg: ScenarioConfig, subject: Subject, rng: np.random.Generator,
               scene_overrides: Mapping[str, str], record_bodies: bool = False,
               alphas: Mapping[str, np.ndarray] | None = None) -> Rig:
-    overrides = {"stature": subject.stature, "human_scale": subject.scale, **dict(scene_overrides)}
-    cell = build_scene(cfg.scene, **overrides)
-    worker = Worker(subject, rate=cfg.mocap_rate)
-    stream = MocapStream(subject, rng, rate=cfg.mocap_rate, dropout_rate=cfg.dropout_rate,
-                         noise=cfg.noise_scale > 0)
-    track = WorkerTrack(worker, stream)
+    cell = build_scene(cfg.scene, **{**subject.workcell_fields, **dict(scene_overrides)})
+    track = WorkerTrack.for_subject(subject, rng, rate=cfg.mocap_rate, dropout_rate=cfg.dropout_rate,
+                                    noise=cfg.noise_scale > 0)
+    worker = track.worker
     kwear = KWearIndex(subject.kwear_params(), alphas or {}, online_weight=cfg.online_alpha_weight)
     plant = Plant(cell, track, HumanModel(cell.model), kwear, mocap_rate=cfg.mocap_rate,
                   ergonomics_rate=cfg.ergonomics_rate, physics_dt=cfg.physics_dt, record_bodies=record_bodies)
@@ -79,15 +76,17 @@ def build_rig(cfg: ScenarioConfig, subject: Subject, rng: np.random.Generator,
 def _calibrate(cfg: ScenarioConfig, subject: Subject, rng: np.random.Generator,
                scene_overrides: Mapping[str, str]):
     """Calibrate ``subject`` in the scenario's workcell; also return the first pass's KWear traces."""
-    rig = build_rig(cfg, subject, rng, scene_overrides)
-    plant = rig.plant
-    cal = SceneCalibration(rig.graph.actions, rig.cell, plant.track, rng, plant.tick_every, plant.dt_tick)
+    cal = SceneCalibration.for_subject(cfg.scene, subject, rng, mocap_rate=cfg.mocap_rate,
+                                       ergonomics_rate=cfg.ergonomics_rate,
+                                       actions=corner_joint_task(cfg.task).actions,
+                                       dropout_rate=cfg.dropout_rate, noise=cfg.noise_scale > 0,
+                                       scene_overrides=scene_overrides)
     params = subject.kwear_params()
     result = cal.run(params, eta0=cfg.eta0, eta_max=cfg.eta_max, v_des=cfg.v_des)
     traces = {}
     for action, ex in cal.passes[0].items():
         v = kwear_trajectory(np.zeros(len(KWEAR_JOINTS)), ex.g, ex.dt, params)
-        traces[action] = (np.arange(1, len(v) + 1) * plant.dt_tick, v)
+        traces[action] = (np.arange(1, len(v) + 1) * cal.dt_tick, v)
     return result, traces
 
 

@@ -13,7 +13,7 @@ import numpy as np
 
 from ergosim.errors import InfeasiblePlanError
 from ergosim.scenes.build import weld_name
-from ergosim.scenes.parts import PROFILES
+from ergosim.scenes.parts import PART_COLLISION, PROFILES
 from ergosim.twin.allocator import Allocator, Decision
 from ergosim.twin.in_hand import InHandTurn, relative_pose
 from ergosim.twin.loop import Plant
@@ -58,7 +58,6 @@ class Session:
         self.failures: list[str] = []
         self.decisions: list[Decision] = []
         self._scratch = mujoco.MjData(self.cell.model)
-        self._collision_bits: dict[int, tuple[int, int]] = {}
 
     # -- completion, detected in the scene -----------------------------------------------------------------
     def completed(self, geom) -> bool:
@@ -75,31 +74,24 @@ class Session:
         return self.plant.run_until(lambda: self.completed(geom), seconds) or self.completed(geom)
 
     # -- the worker does an action -------------------------------------------------------------------------
-    def _carried(self, grasp_part: str) -> list[int]:
-        """Geoms that move with the worker's hand: the grasped part, or the whole assembly when the grasped
-        part is J or a profile seated in it."""
-        cell = self.cell
+    def _carried(self, grasp_part: str) -> np.ndarray:
+        """Collision geoms that move with the worker's hand: the grasped part's, or the whole assembly's when
+        the grasped part is J or a profile seated in it."""
+        cell, model = self.cell, self.cell.model
         bodies = {grasp_part}
         if grasp_part == "J" or (grasp_part in PROFILES and cell.is_seated(grasp_part)):
             bodies |= {"J", *(p for p in PROFILES if cell.is_seated(p))}
-        ids = {cell.model.body(b).id for b in bodies}
-        return [g for g in range(cell.model.ngeom) if cell.model.geom_bodyid[g] in ids]
+        ids = [model.body(b).id for b in bodies]
+        return np.flatnonzero(np.isin(model.geom_bodyid, ids) & (model.geom_contype != 0))
 
-    def _pass_through(self, geoms: list[int], on: bool) -> None:
+    def _pass_through(self, geoms: np.ndarray, on: bool) -> None:
         """The worker's motion is kinematic and not collision-planned, like the human body itself: what the
-        worker carries passes through the furniture and the robot until it is released, then it is a
-        colliding rigid body again and comes to rest on its own (the scene then decides completion)."""
+        worker carries passes through the furniture and the robot until it is released, then it collides
+        again with the parts' own bits (``PART_COLLISION``) and comes to rest on its own (the scene then
+        decides completion)."""
         model = self.cell.model
-        if on:
-            for g in geoms:
-                if g not in self._collision_bits:
-                    self._collision_bits[g] = (int(model.geom_contype[g]), int(model.geom_conaffinity[g]))
-                model.geom_contype[g] = model.geom_conaffinity[g] = 0
-        else:
-            for g in geoms:
-                bits = self._collision_bits.pop(g, None)
-                if bits is not None:
-                    model.geom_contype[g], model.geom_conaffinity[g] = bits
+        model.geom_contype[geoms] = 0 if on else PART_COLLISION["contype"]
+        model.geom_conaffinity[geoms] = 0 if on else PART_COLLISION["conaffinity"]
 
     def _in_hand_turn(self, motion, geom, body: str) -> InHandTurn:
         """The weld target that brings ``body`` onto ``geom.target`` when the hand reaches its place pose."""

@@ -13,42 +13,63 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ergosim.ergonomics.rula import RULA_PARTS
 from ergosim.posture import ANGLE_NAMES
 from ergosim.worker.ergonomics_tick import score_frames
 from ergosim.worker.motion import ActionMotion, Worker
 from ergosim.worker.stream import MocapStream
+from ergosim.worker.subjects import Subject
 
 __all__ = ["Segment", "WorkerTrack"]
 
 _N = len(ANGLE_NAMES)
 
 
+# Columns of Segment.scores: the tick-log columns ``acting`` .. ``rula_grand`` (ergosim.twin.records).
+_MEASURED = slice(2, 2 + _N)
+_RULA = slice(2 + _N, 2 + _N + len(RULA_PARTS))
+_GRAND = 2 + _N + len(RULA_PARTS)
+
+
 @dataclass(frozen=True)
 class Segment:
     """One measured stretch of motion. Arrays have one row per mocap frame.
 
-    ``true`` (n, 22) [deg] drives the model; ``measured`` (n, 14) [deg] is what the suit reports (NaN rows are
-    dropouts); ``rula`` (n, 7) part scores in :data:`RULA_PARTS` order and ``grand`` (n,), NaN on dropouts;
-    ``g`` (n, 5) KWear inputs G_i (paper eq. 3); ``acting`` tells wear from recovery (eq. 3 vs eq. 5).
-    ``qpos`` (n, 22) is ``true`` in radians and ``scores`` (n, 24) the tick-log columns ``acting`` ..
-    ``rula_grand``, both computed once per segment: the per-tick loop only copies rows.
+    ``qpos`` (n, 22) [rad] is the true posture that drives the model; ``scores`` (n, 24) holds the tick-log
+    columns ``acting``, ``dropout``, the measured angles, RULA per part and the grand score, computed once
+    per segment so the per-tick loop only copies rows; ``g`` (n, 5) KWear inputs G_i (paper eq. 3);
+    ``acting`` tells wear from recovery (eq. 3 vs eq. 5). Views: ``true`` (n, 22) [deg], ``measured``
+    (n, 14) [deg] what the suit reports (NaN rows are dropouts), ``rula`` (n, 7) part scores in
+    :data:`RULA_PARTS` order and ``grand`` (n,), NaN on dropouts.
     """
 
     motion: ActionMotion
-    true: np.ndarray
-    measured: np.ndarray
-    rula: np.ndarray
-    grand: np.ndarray
+    qpos: np.ndarray
+    scores: np.ndarray
     g: np.ndarray
     acting: bool
     grasp_frame: int
     release_frame: int
-    qpos: np.ndarray
-    scores: np.ndarray
+
+    @property
+    def true(self) -> np.ndarray:
+        return self.motion.angles
+
+    @property
+    def measured(self) -> np.ndarray:
+        return self.scores[:, _MEASURED]
+
+    @property
+    def rula(self) -> np.ndarray:
+        return self.scores[:, _RULA]
+
+    @property
+    def grand(self) -> np.ndarray:
+        return self.scores[:, _GRAND]
 
     @property
     def n(self) -> int:
-        return len(self.true)
+        return len(self.qpos)
 
 
 class WorkerTrack:
@@ -60,6 +81,13 @@ class WorkerTrack:
         self.segment: Segment | None = None
         self.index = 0
 
+    @classmethod
+    def for_subject(cls, subject: Subject, rng: np.random.Generator, *, rate: float,
+                    dropout_rate: float = 0.0, noise: bool = True) -> WorkerTrack:
+        """``subject``'s worker and mocap stream at ``rate`` [Hz], the stream drawing from ``rng``."""
+        return cls(Worker(subject, rate=rate),
+                   MocapStream(subject, rng, rate=rate, dropout_rate=dropout_rate, noise=noise))
+
     def _measure(self, motion: ActionMotion, acting: bool) -> Segment:
         frames = self.stream.measure(motion.angles)
         measured = frames.angles[:, :_N]
@@ -68,8 +96,7 @@ class WorkerTrack:
         grasp = int(np.ceil(motion.t_grasp * rate)) if np.isfinite(motion.t_grasp) else -1
         release = int(np.ceil(motion.t_release * rate)) if np.isfinite(motion.t_release) else -1
         scores = np.column_stack([np.full(len(g), float(acting)), np.isnan(g[:, 0]), measured, parts, grand])
-        return Segment(motion, motion.angles, measured, parts, grand, g, acting, grasp, release,
-                       np.deg2rad(motion.angles), scores)
+        return Segment(motion, np.deg2rad(motion.angles), scores, g, acting, grasp, release)
 
     def start_action(self, motion: ActionMotion) -> Segment:
         self.segment, self.index = self._measure(motion, acting=True), 0

@@ -4,7 +4,6 @@ and the replay of recordings through RULA and KWear."""
 from ergosim.worker.bvh import Recording, load_bvh, read_bvh_text, save_bvh
 from ergosim.worker.ergonomics_tick import (
     REPLAY_COLUMNS,
-    RULA_PARTS,
     ReplayTrace,
     replay,
     score_frames,
@@ -41,7 +40,6 @@ __all__ = [
     "make_subject",
     "make_subjects",
     "rest_angles",
-    "RULA_PARTS",
     "REPLAY_COLUMNS",
     "ReplayTrace",
     "score_frames",

@@ -26,7 +26,7 @@ from ergosim.ergonomics.rula import RULA_PARTS, part_scores, rula
 from ergosim.errors import ConfigError, RecordingError
 from ergosim.posture import ANGLE_NAMES, KWEAR_JOINTS, array_to_posture
 
-__all__ = ["RULA_PARTS", "REPLAY_COLUMNS", "ReplayTrace", "score_frames", "tick_indices", "replay"]
+__all__ = ["REPLAY_COLUMNS", "ReplayTrace", "score_frames", "tick_indices", "replay"]
 
 
 REPLAY_COLUMNS: tuple[str, ...] = (

@@ -63,6 +63,11 @@ class Subject:
     def scale_map(self) -> dict[str, float]:
         return dict(self.scale)
 
+    @property
+    def workcell_fields(self) -> dict[str, Any]:
+        """The workcell config fields that build this subject's body in a scene (stature, segment scaling)."""
+        return {"stature": self.stature, "human_scale": self.scale}
+
     def spec(self, keyframe: str | None = "home") -> mujoco.MjSpec:
         """The subject's human body (attach it into a scene, or compile it on its own)."""
         return human_spec(self.stature, self.scale_map, keyframe=keyframe)
