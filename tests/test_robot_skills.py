@@ -5,7 +5,6 @@ import numpy as np
 import pytest
 
 import ergosim.robot as robot_pkg
-from ergosim.human.model import HumanModel
 from ergosim.robot import PandaKinematics
 from ergosim.robot.skills import SkillParams, handover, pick_place
 from ergosim.robot.status import SkillStatus
@@ -75,6 +74,33 @@ def test_pick_place_puts_j_in_the_assembly_area(kwear, kin):
     assert 20 < res.duration < 200
 
 
+def test_the_gripper_holds_a_part_by_the_weld_without_squeezing_it(kwear, kin):
+    """While the robot holds J, no finger touches it (the weld is the grasp) and the fingers stay where they
+    closed on it, the part's width apart; the place is still within 5 mm."""
+    wc = kwear
+    wc.reset()
+    m, d = wc.model, wc.data
+    fingers = {m.body(f"panda_{s}finger").id for s in ("left", "right")}
+    j = m.body("J").id
+    pos, quat = wc.site_pose("bench_target")
+    skill = pick_place(wc, "J", pos, quat, kin=kin)
+    held = touching = 0
+    opening = []
+    while (res := skill.step(d)) is None:
+        mujoco.mj_step(m, d)
+        if wc.holder_of("J") == "robot":
+            held += 1
+            opening.append(d.qpos[[m.joint(f"panda_finger_joint{i}").qposadr[0] for i in (1, 2)]].sum())
+            touching += sum({m.geom_bodyid[c.geom1], m.geom_bodyid[c.geom2]} & fingers != set()
+                            and j in (m.geom_bodyid[c.geom1], m.geom_bodyid[c.geom2]) for c in d.contact)
+    assert res.status is SkillStatus.OK, res.message
+    assert held > 1000 and touching == 0
+    width = 2 * wc.config.dims.core_half
+    assert np.ptp(opening) < 3e-4 and abs(np.mean(opening) - width) < 6e-4  # not closing into it
+    assert res.place_error < 0.005
+    wc.reset()
+
+
 @pytest.mark.parametrize("profile", ["L", "S1", "S2"])
 def test_handover_brings_each_profile_to_the_handover_pose(multi, kin, profile):
     wc = multi
@@ -91,8 +117,8 @@ def test_handover_brings_each_profile_to_the_handover_pose(multi, kin, profile):
             return True
         return False
 
-    human = HumanModel(wc.model)
-    still = human.angles(wc.data.qpos)
+    human = wc.human
+    still = human.home_deg
     skill = handover(wc, profile, pos, quat, worker_takes, kin=kin)
     while (res := skill.step(wc.data)) is None:  # the twin's loop: mocap writes the worker, then physics
         human.set_angles(wc.data, still)

@@ -8,7 +8,6 @@ import pytest
 
 import ergosim.scenes as scenes_pkg
 from ergosim.errors import ConfigError
-from ergosim.human.model import HumanModel
 from ergosim.scenes import (
     ALUMINIUM_DENSITY,
     PROFILES,
@@ -105,10 +104,27 @@ def test_actions_geometry(kwear, multi):
     assert multi.actions["a5"].kind == "remove"
 
 
-def test_human_attached_with_canonical_joints(multi):
-    human = HumanModel(multi.model)
-    assert len(human.qadr) == 22
+def test_human_is_mocap_segments_driven_by_the_canonical_joints(multi):
+    """The scene's human adds no degrees of freedom: one mocap body per segment of the articulated model,
+    which has the 22 canonical joints; posing it moves the scene's segments exactly."""
+    human = multi.human
+    assert len(human.kin.qadr) == 22
+    assert multi.model.nmocap == human.kin_model.nbody - 1
+    assert not any(multi.model.body(n).name.startswith("human") for n in multi.model.jnt_bodyid)
     assert set(multi.holders) == {"robot", "human_right", "human_left"}
+    angles = human.home_deg.copy()
+    angles[human.index["shoulder_flexion"]] = 80.0
+    angles[human.index["trunk_rotation"]] = -15.0
+    human.set_angles(multi.data, angles)
+    kd = mujoco.MjData(human.kin_model)
+    human.kin.set_angles(kd, angles)
+    for b in range(1, human.kin_model.nbody):
+        name = human.kin_model.body(b).name
+        np.testing.assert_allclose(multi.data.xpos[multi.model.body(name).id], kd.xpos[b], atol=1e-12)
+        np.testing.assert_allclose(multi.data.xquat[multi.model.body(name).id], kd.xquat[b], atol=1e-12)
+    np.testing.assert_allclose(human.hand_pos(multi.data), kd.site_xpos[human.kin.hand_site["right"]],
+                               atol=1e-12)
+    multi.reset()
 
 
 def _step(wc, seconds):
@@ -120,7 +136,7 @@ def test_hold_moves_with_hand_and_release_falls(kwear):
     wc = kwear
     wc.reset()
     m, d = wc.model, wc.data
-    human = HumanModel(m)
+    human = wc.human
     # put S1 into the left hand (as if picked up), then hold it there
     qa = m.joint("S1").qposadr[0]
     d.qpos[qa:qa + 3] = human.hand_pos(d, "left")
@@ -130,7 +146,7 @@ def test_hold_moves_with_hand_and_release_falls(kwear):
     _step(wc, 0.05)
     assert np.linalg.norm(wc.body_pose("S1")[0] - human.hand_pos(d, "left")) < 2e-3  # no jump
     h0 = human.hand_pos(d, "left")
-    angles = human.angles(d.qpos)  # the mocap stream writes every angle each step
+    angles = human.home_deg.copy()  # the mocap stream writes every angle each step
     for k in range(1000):  # raise the left arm sideways (clear of the bench); the part goes with the hand
         angles[human.index["left_shoulder_abduction"]] = np.degrees(0.001 * k)
         human.set_angles(d, angles)
@@ -174,6 +190,49 @@ def test_seat_within_tolerance_only(kwear):
     assert not wc.is_seated("S1")
     np.testing.assert_allclose(wc.body_pose("S1")[0], m.key_qpos[wc.home_key][qa:qa + 3])
     wc.reset()
+
+
+def _collides(m, g1: int, g2: int) -> bool:
+    return bool(m.geom_contype[g1] & m.geom_conaffinity[g2] or m.geom_contype[g2] & m.geom_conaffinity[g1])
+
+
+def test_a_part_the_robot_holds_stops_colliding_with_the_robot_only(kwear):
+    """The weld is the grasp: fingers on a held part would only add contacts fighting it. The held assembly
+    still collides with the furniture; the other parts still collide with the fingers; release restores it,
+    and leaves a part the worker carries (passing through everything) as it is."""
+    wc = kwear
+    wc.reset()
+    m = wc.model
+    finger = next(g for g in range(m.ngeom) if m.geom_bodyid[g] == m.body("panda_leftfinger").id
+                  and m.geom_contype[g])
+    bench = m.geom("bench").id
+
+    ids = {p: [g for g in range(m.ngeom) if m.geom_bodyid[g] == m.body(p).id and m.geom_contype[g]]
+           for p in ("J", "S1", "L")}
+
+    def geoms(part):
+        return ids[part]
+
+    spos, squat = wc.site_pose("J_hollow_S1")
+    qa = m.joint("S1").qposadr[0]
+    wc.data.qpos[qa:qa + 3], wc.data.qpos[qa + 3:qa + 7] = spos, squat
+    mujoco.mj_forward(m, wc.data)
+    assert wc.seat("S1").seated
+    before = {p: [(m.geom_contype[g], m.geom_conaffinity[g]) for g in geoms(p)] for p in ("J", "S1", "L")}
+    wc.grasp("robot", "S1")  # the assembly J + S1, taken by its profile
+    for p in ("J", "S1"):
+        assert not any(_collides(m, g, finger) for g in geoms(p)), p
+        assert all(_collides(m, g, bench) for g in geoms(p)), p
+    assert all(_collides(m, g, finger) for g in geoms("L"))
+    wc.release("robot", "S1")
+    assert {p: [(m.geom_contype[g], m.geom_conaffinity[g]) for g in geoms(p)] for p in before} == before
+    wc.grasp("robot", "L")
+    m.geom_contype[geoms("L")] = 0  # handed over: the worker's carry passes through everything
+    m.geom_conaffinity[geoms("L")] = 0
+    wc.release("robot", "L")
+    assert not m.geom_contype[geoms("L")].any() and not m.geom_conaffinity[geoms("L")].any()
+    wc.reset()
+    assert {p: [(m.geom_contype[g], m.geom_conaffinity[g]) for g in geoms(p)] for p in before} == before
 
 
 def test_unknown_holder_or_part(kwear):

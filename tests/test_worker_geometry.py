@@ -12,7 +12,6 @@ import numpy as np
 import pytest
 
 from ergosim.ergonomics.rula import RULA_PARTS
-from ergosim.human.model import HumanModel
 from ergosim.scenes import build_scene
 from ergosim.twin.calibration import put_part
 from ergosim.worker import Subject, Worker, make_subjects, score_frames
@@ -78,7 +77,7 @@ def test_hand_reaches_every_part_and_target_within_2cm(workers, scene, who):
     part at the end of the grasp and on the target at the release; so has the plan's own hand path."""
     worker = workers[who]
     cell = _cell(worker.subject, scene)
-    human = HumanModel(cell.model)
+    human = cell.human
     rng = np.random.default_rng(1)
     for name, geom in cell.actions.items():
         for handover in (False, True) if geom.handover is not None else (False,):

@@ -21,7 +21,6 @@ from ergosim.ergonomics.param_store import ParamStore, WorkerParams
 from ergosim.ergonomics.risk_index import KWearIndex
 from ergosim.ergonomics.rula import RULA_PARTS, part_scores, rula
 from ergosim.errors import ConfigError, RecordingError
-from ergosim.human.model import HumanModel
 from ergosim.posture import ANGLE_NAMES, KWEAR_JOINTS, array_to_posture
 from ergosim.scenes import build_scene
 from ergosim.twin.loop import Plant
@@ -179,7 +178,7 @@ def twin_segment():
     rng = np.random.default_rng(4)
     track = WorkerTrack(Worker(subject), MocapStream(subject, rng, dropout_rate=0.05, dropout_frames=4))
     kwear = KWearIndex(P, {})
-    plant = Plant(cell, track, HumanModel(cell.model), kwear, mocap_rate=60.0, ergonomics_rate=20.0,
+    plant = Plant(cell, track, kwear, mocap_rate=60.0, ergonomics_rate=20.0,
                   physics_dt=1 / 240)
     seg = track.start_action(track.worker.plan(cell, cell.actions["a1"], rng, action="a1"))
     assert plant.run_until(lambda: not track.busy, seg.motion.duration + 1.0)

@@ -1,9 +1,11 @@
-"""The kinematic human upper body: anthropometry, MJCF generation, and the canonical-angle view."""
+"""The kinematic human upper body: anthropometry, MJCF generation, the canonical-angle view, and the mocap
+segments that show it in a physics scene."""
 
 from ergosim.human.anthropometry import PROPORTIONS, SEGMENT_SCALES, Segments, segment_lengths
 from ergosim.human.joints import JOINT_SPECS, JointSpec, joint_spec
 from ergosim.human.mjcf import HOME_POSTURE, humanoid_xml
-from ergosim.human.model import EYE_SITE, HAND_SITES, ROOT_BODY, HumanModel, human_spec
+from ergosim.human.mocap import MocapHuman, add_mocap_segments
+from ergosim.human.model import EYE_SITE, HAND_SITES, ROOT_BODY, HumanModel, HumanReadout, human_spec
 
 __all__ = [
     "PROPORTIONS",
@@ -19,5 +21,8 @@ __all__ = [
     "HAND_SITES",
     "ROOT_BODY",
     "HumanModel",
+    "HumanReadout",
+    "MocapHuman",
+    "add_mocap_segments",
     "human_spec",
 ]

@@ -16,7 +16,7 @@ from ergosim.human.anthropometry import segment_lengths
 from ergosim.human.mjcf import humanoid_xml
 from ergosim.posture import HUMAN_JOINTS, Posture
 
-__all__ = ["HAND_SITES", "EYE_SITE", "ROOT_BODY", "human_spec", "HumanModel"]
+__all__ = ["HAND_SITES", "EYE_SITE", "ROOT_BODY", "human_spec", "HumanModel", "HumanReadout"]
 
 ROOT_BODY = "human_pelvis"
 HAND_SITES = {"right": "human_hand_right", "left": "human_hand_left"}
@@ -35,7 +35,32 @@ def human_spec(stature: float = 1.75, scale: Mapping[str, float] | None = None,
     return mujoco.MjSpec.from_string(humanoid_xml(segment_lengths(stature, scale), keyframe=keyframe))
 
 
-class HumanModel:
+class HumanReadout:
+    """Where the human's hands, eyes and shoulders are in a scene's ``data`` (after kinematics), through the
+    ids ``hand_site``, ``eye_site`` and ``shoulder_body`` the subclass sets."""
+
+    hand_site: dict[str, int]
+    eye_site: int
+    shoulder_body: dict[str, int]
+
+    def hand_pos(self, data: mujoco.MjData, side: str = "right") -> np.ndarray:
+        """(3,) grasp point of a hand in the world frame [m] (after kinematics)."""
+        return data.site_xpos[self.hand_site[side]].copy()
+
+    def hand_xmat(self, data: mujoco.MjData, side: str = "right") -> np.ndarray:
+        """(3, 3) orientation of a hand's grasp site in the world frame."""
+        return data.site_xmat[self.hand_site[side]].reshape(3, 3).copy()
+
+    def eye_pos(self, data: mujoco.MjData) -> np.ndarray:
+        """(3,) eye (gaze origin) position in the world frame [m]."""
+        return data.site_xpos[self.eye_site].copy()
+
+    def shoulder_pos(self, data: mujoco.MjData, side: str = "right") -> np.ndarray:
+        """(3,) glenohumeral centre in the world frame [m]."""
+        return data.xpos[self.shoulder_body[side]].copy()
+
+
+class HumanModel(HumanReadout):
     """Canonical-angle view of the human inside any compiled model that contains it.
 
     ``qadr`` is the (22,) array of qpos addresses in :data:`ergosim.posture.HUMAN_JOINTS` order.
@@ -85,6 +110,11 @@ class HumanModel:
         """Write (22,) canonical angles [deg] (HUMAN_JOINTS order) into ``qpos`` in place."""
         qpos[self.qadr] = np.deg2rad(angles_deg)
 
+    def pose(self, data: mujoco.MjData, qpos: np.ndarray, qvel: np.ndarray | None = None) -> None:
+        """Write the 22 angles [rad] (and their rates [rad/s], else zero) into ``data``; no kinematics."""
+        data.qpos[self.qadr] = qpos
+        data.qvel[self.dofadr] = 0.0 if qvel is None else qvel
+
     def set_posture(self, data: mujoco.MjData, posture_deg: Posture) -> None:
         """Set the named angles [deg] (others untouched), zero the human's velocities, run mj_kinematics."""
         for name, value in posture_deg.items():
@@ -100,20 +130,3 @@ class HumanModel:
         data.qpos[self.qadr] = np.deg2rad(angles_deg)
         data.qvel[self.dofadr] = 0.0
         mujoco.mj_kinematics(self.model, data)
-
-    def hand_pos(self, data: mujoco.MjData, side: str = "right") -> np.ndarray:
-        """(3,) grasp point of a hand in the world frame [m] (after kinematics)."""
-        return data.site_xpos[self.hand_site[side]].copy()
-
-    def hand_xmat(self, data: mujoco.MjData, side: str = "right") -> np.ndarray:
-        """(3, 3) orientation of a hand's grasp site in the world frame."""
-        return data.site_xmat[self.hand_site[side]].reshape(3, 3).copy()
-
-    def eye_pos(self, data: mujoco.MjData) -> np.ndarray:
-        """(3,) eye (gaze origin) position in the world frame [m]."""
-        return data.site_xpos[self.eye_site].copy()
-
-    def shoulder_pos(self, data: mujoco.MjData, side: str = "right") -> np.ndarray:
-        """(3,) glenohumeral centre in the world frame [m]."""
-        return data.xpos[self.shoulder_body[side]].copy()
-

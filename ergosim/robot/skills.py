@@ -208,6 +208,7 @@ class Skill(ABC):
             left, right = self._touching(body)
             if left and right:
                 self.wc.grasp("robot", body_name)
+                d.ctrl[7] = d.qpos[self._finger_q].mean()  # hold the fingers where they touch the part
                 return True
             stalled = stalled + 1 if d.ctrl[7] == 0.0 else 0
             if d.qpos[self._finger_q].mean() < width / 2 - 0.004 or stalled * self.dt > 0.3:

@@ -15,7 +15,8 @@ import mujoco
 import numpy as np
 
 from ergosim.human.mjcf import HOME_POSTURE
-from ergosim.human.model import HAND_SITES, HumanModel, human_spec
+from ergosim.human.mocap import add_mocap_segments
+from ergosim.human.model import HAND_SITES, ROOT_BODY, HumanModel, human_spec
 from ergosim.robot.mjcf import HOME_QPOS
 from ergosim.robot.model import compile_spec, panda_spec
 from ergosim.scenes.config import Surface, WorkcellConfig
@@ -122,18 +123,26 @@ def attach_panda(spec: mujoco.MjSpec, cfg: WorkcellConfig, support_height: float
     spec.add_exclude(bodyname1="world", bodyname2="panda_link1")
 
 
-def attach_human(spec: mujoco.MjSpec, cfg: WorkcellConfig) -> bool:
-    """Attach the kinematic human at the worker position; False when no human model is available."""
-    frame = spec.worldbody.add_frame(name="worker", pos=[*cfg.worker_xy, 0.0], quat=yaw_quat(cfg.worker_yaw))
+def attach_human(spec: mujoco.MjSpec, cfg: WorkcellConfig) -> mujoco.MjModel:
+    """Add the kinematic human standing at the worker position; return its articulated model.
+
+    The articulated model (the 22 canonical joints, placed in the scene's world frame) is what motion capture
+    drives; the scene gets one mocap body per segment, posed from it every frame
+    (:class:`~ergosim.human.mocap.MocapHuman`), here at the ``home`` posture.
+    """
+    kin_spec = mujoco.MjSpec()
+    kin_spec.modelname = "human_kinematics"
+    kin_spec.compiler.degree = False
+    frame = kin_spec.worldbody.add_frame(name="worker", pos=[*cfg.worker_xy, 0.0],
+                                         quat=yaw_quat(cfg.worker_yaw))
     human = human_spec(cfg.stature, dict(cfg.human_scale), keyframe=None)
-    # The pose comes from motion capture, whose IK already keeps every angle inside the range of motion: in
-    # the scene the ranges stay as data (jnt_range) but are not limit constraints, which would push the
-    # body away from the measured pose between frames (and cost solver time while the worker moves).
-    for joint in human.body("human_pelvis").find_all(mujoco.mjtObj.mjOBJ_JOINT):
-        joint.limited = mujoco.mjtLimited.mjLIMITED_FALSE
     with _quiet_attach():
-        frame.attach_body(human.body("human_pelvis"), "", "")
-    return True
+        frame.attach_body(human.body(ROOT_BODY), "", "")
+        kin = compile_spec(kin_spec, where="human")
+    data = mujoco.MjData(kin)
+    HumanModel(kin).set_posture(data, HOME_POSTURE)
+    add_mocap_segments(spec, kin, data)
+    return kin
 
 
 def add_parts(spec: mujoco.MjSpec, cfg: WorkcellConfig) -> None:
@@ -178,8 +187,8 @@ def human_hand_bodies(spec: mujoco.MjSpec) -> dict[str, str]:
 
 
 def finish(spec: mujoco.MjSpec, where: str) -> mujoco.MjModel:
-    """Replace attached keyframes by one ``home`` (robot ready, fingers open, human relaxed, parts laid
-    out) and compile."""
+    """Replace attached keyframes by one ``home`` (robot ready, fingers open, parts laid out; the human's
+    mocap segments keep their home posture) and compile."""
     for key in list(spec.keys):
         spec.delete(key)
     with _quiet_attach():
@@ -189,10 +198,6 @@ def finish(spec: mujoco.MjSpec, where: str) -> mujoco.MjModel:
     qpos[arm] = HOME_QPOS
     for j in ("panda_finger_joint1", "panda_finger_joint2"):
         qpos[model.joint(j).qposadr[0]] = model.jnt_range[model.joint(j).id][1]
-    if mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, "trunk_flexion") >= 0:
-        human = HumanModel(model)
-        for name, deg in HOME_POSTURE.items():
-            qpos[human.qadr[human.index[name]]] = np.deg2rad(deg)
     ctrl = np.zeros(model.nu)
     ctrl[:7] = HOME_QPOS
     ctrl[7] = model.actuator_ctrlrange[7, 1]

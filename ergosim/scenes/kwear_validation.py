@@ -110,8 +110,8 @@ def build_workcell(cfg: KWearValidationConfig | None = None) -> Workcell:
     _add_shelf(spec, cfg)
     build.attach_panda(spec, cfg, support_height=cfg.bench_height)
     hands = {"robot": "panda_hand"}
-    if build.attach_human(spec, cfg):
-        hands.update(build.human_hand_bodies(spec))
+    human = build.attach_human(spec, cfg)
+    hands.update(build.human_hand_bodies(spec))
     build.add_parts(spec, cfg)
     j_rest = rest_height(cfg.dims, "J")
     spec.worldbody.add_site(name="bench_target", pos=[*cfg.j_place_xy, cfg.bench_height + j_rest],
@@ -127,4 +127,4 @@ def build_workcell(cfg: KWearValidationConfig | None = None) -> Workcell:
         "a4": ActionGeometry("a4", "S2", "insert", "J_hollow_S2"),
         "a5": ActionGeometry("a5", "J", "place", "shelf_target"),
     }
-    return Workcell(NAME, model, cfg, actions, hands)
+    return Workcell(NAME, model, cfg, actions, hands, human=human)

@@ -98,8 +98,8 @@ def build_workcell(cfg: MultiSubjectConfig | None = None) -> Workcell:
     build.add_box(spec, "monitor_stand", (mx + 0.01, my, cfg.bench_height + stand), (0.015, 0.04, stand))
     build.attach_panda(spec, cfg, support_height=cfg.side_table_height)
     hands = {"robot": "panda_hand"}
-    if build.attach_human(spec, cfg):
-        hands.update(build.human_hand_bodies(spec))
+    human = build.attach_human(spec, cfg)
+    hands.update(build.human_hand_bodies(spec))
     build.add_parts(spec, cfg)
     j_rest = rest_height(cfg.dims, "J")
     spec.worldbody.add_site(name="assembly_area", pos=[*cfg.assembly_xy, cfg.bench_height + j_rest],
@@ -117,4 +117,4 @@ def build_workcell(cfg: MultiSubjectConfig | None = None) -> Workcell:
         "a4": ActionGeometry("a4", "S2", "insert", "J_hollow_S2", handover="handover"),
         "a5": ActionGeometry("a5", "J", "remove", "outfeed"),
     }
-    return Workcell(NAME, model, cfg, actions, hands)
+    return Workcell(NAME, model, cfg, actions, hands, human=human)

@@ -14,9 +14,10 @@ import mujoco
 import numpy as np
 
 from ergosim.errors import ConfigError
+from ergosim.human.mocap import MocapHuman
 from ergosim.scenes.build import HOLDERS, seat_name, weld_name
 from ergosim.scenes.config import WorkcellConfig
-from ergosim.scenes.parts import PARTS, PROFILES
+from ergosim.scenes.parts import PART_COLLISION, PARTS, PROFILES
 
 __all__ = ["ActionGeometry", "SeatResult", "Workcell"]
 
@@ -48,6 +49,9 @@ class SeatResult(NamedTuple):
     rot_error_deg: float
 
 
+_ROBOT_BIT = 2  # the robot's collision geoms have contype 2 (PART_COLLISION accepts it)
+
+
 def _quat_conj(q: np.ndarray) -> np.ndarray:
     return q * np.array([1.0, -1.0, -1.0, -1.0])
 
@@ -57,22 +61,30 @@ def _quat_angle_deg(q: np.ndarray) -> float:
 
 
 class Workcell:
-    """One scene instance. ``hand_bodies``: holder name -> body that holds (``panda_hand``, human hands)."""
+    """One scene instance. ``hand_bodies``: holder name -> body that holds (``panda_hand``, human hands).
+
+    ``human``: the articulated human model returned by :func:`~ergosim.scenes.build.attach_human`; the scene's
+    mocap human is then driven through :attr:`human` (a :class:`~ergosim.human.mocap.MocapHuman`).
+    """
 
     def __init__(self, name: str, model: mujoco.MjModel, config: WorkcellConfig,
-                 actions: dict[str, ActionGeometry], hand_bodies: dict[str, str]) -> None:
+                 actions: dict[str, ActionGeometry], hand_bodies: dict[str, str],
+                 human: mujoco.MjModel | None = None) -> None:
         self.name = name
         self.model = model
         self.data = mujoco.MjData(model)
         self.config = config
         self.actions = dict(actions)
         self.hand_bodies = dict(hand_bodies)
+        self.human = MocapHuman(model, human) if human is not None else None
         self.home_key = model.keyframe("home").id
         self._body = {p: model.body(p).id for p in PARTS}
         self._hand = {h: model.body(b).id for h, b in hand_bodies.items()}
         self._weld = {(h, p): model.equality(weld_name(h, p)).id for h in hand_bodies for p in PARTS}
         self._seat = {p: model.equality(seat_name(p)).id for p in PROFILES}
         self._hollow = {p: model.site(f"J_hollow_{p}").id for p in PROFILES}
+        self._collision_geoms = {p: np.flatnonzero((model.geom_bodyid == self._body[p])
+                                                   & (model.geom_contype != 0)) for p in PARTS}
         self.reset()
 
     # -- poses ----------------------------------------------------------------------------------------------
@@ -94,13 +106,20 @@ class Workcell:
         """Everything to the ``home`` keyframe; all welds off."""
         mujoco.mj_resetDataKeyframe(self.model, self.data, self.home_key)
         self.data.eq_active[:] = 0
+        self._restore_collisions()
         mujoco.mj_forward(self.model, self.data)
+
+    def _restore_collisions(self) -> None:
+        for geoms in self._collision_geoms.values():
+            self.model.geom_contype[geoms] = PART_COLLISION["contype"]
+            self.model.geom_conaffinity[geoms] = PART_COLLISION["conaffinity"]
 
     def reset_parts(self) -> None:
         """Lay the parts out again at their initial poses (welds off, at rest); robot and human untouched."""
         key_qpos = self.model.key_qpos[self.home_key]
         for eq in (*self._weld.values(), *self._seat.values()):
             self.data.eq_active[eq] = 0
+        self._restore_collisions()
         for part in PARTS:
             jnt = self.model.body_jntadr[self._body[part]]
             qa, va = self.model.jnt_qposadr[jnt], self.model.jnt_dofadr[jnt]
@@ -140,14 +159,41 @@ class Workcell:
         self._wake(b1, b2)
 
     def grasp(self, holder: str, part: str) -> None:
-        """``holder`` ("robot", "human_right", "human_left") takes ``part`` where both are now."""
+        """``holder`` ("robot", "human_right", "human_left") takes ``part`` where both are now.
+
+        The weld *is* the grasp. For the robot, the part (with whatever is seated with it) stops colliding
+        with the robot's geoms while held: fingers squeezing a welded part only add contact rows that fight
+        the weld (and most of the solver's work while the robot carries). It still collides with the
+        furniture, and the other parts still collide with the fingers."""
         self._check(holder, part)
         self._activate(self._weld[holder, part], self._hand[holder], self._body[part])
+        if holder == "robot":
+            self._robot_contacts(part, False)
 
     def release(self, holder: str, part: str) -> None:
         self._check(holder, part)
         self.data.eq_active[self._weld[holder, part]] = 0
+        if holder == "robot":
+            self._robot_contacts(part, True)
         self._wake(self._hand[holder], self._body[part])
+
+    def _assembly(self, part: str) -> list[str]:
+        """``part`` and the parts welded to it by seats (J and its seated profiles move as one)."""
+        if part == "J" or (part in PROFILES and self.is_seated(part)):
+            return ["J", *(p for p in PROFILES if self.is_seated(p))]
+        return [part]
+
+    def _robot_contacts(self, part: str, on: bool) -> None:
+        """Switch the robot bit of the collision affinity of ``part``'s assembly. Geoms switched off
+        altogether (a part carried by the worker passes through everything) are left as they are."""
+        m = self.model
+        for p in self._assembly(part):
+            geoms = self._collision_geoms[p]
+            live = geoms[m.geom_contype[geoms] != 0]
+            if on:
+                m.geom_conaffinity[live] |= _ROBOT_BIT
+            else:
+                m.geom_conaffinity[live] &= ~_ROBOT_BIT
 
     def holder_of(self, part: str) -> str | None:
         for (h, p), eq in self._weld.items():

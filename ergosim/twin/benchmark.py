@@ -27,10 +27,10 @@ __all__ = ["bench_repetition", "bench_sim", "bench_full"]
 
 
 def bench_repetition(scenario: str = "multi-subject", mode: str = "hrc", seed: int = 0,
-                     record: bool = False, scene_overrides: dict | None = None) -> dict:
-    """Time one repetition (after calibration, which is not timed). Returns wall [s], simulated time [s],
-    and the raw mj_step wall for the same simulated time."""
-    cfg = dataclasses.replace(scenario_config(scenario), repetitions=1, modes=(mode,))
+                     record: bool = False, scene_overrides: dict | None = None, repetitions: int = 1) -> dict:
+    """Time ``repetitions`` repetitions of one subject (after calibration, which is not timed). Returns wall
+    [s], simulated time [s], and the raw mj_step wall for the same simulated time."""
+    cfg = dataclasses.replace(scenario_config(scenario), repetitions=repetitions, modes=(mode,))
     subject = make_subjects(1, seed)[0]
     overrides = dict(scene_overrides or {})
     calibration, _ = _calibrate(cfg, subject, np.random.default_rng([seed, 1]), overrides)
@@ -39,7 +39,7 @@ def bench_repetition(scenario: str = "multi-subject", mode: str = "hrc", seed: i
     session = Session(cfg=cfg, mode=mode, subject_index=0, worker=rig.worker, plant=rig.plant,
                       robot=rig.robot, allocator=make_allocator(cfg, mode, rig, calibration), rng=rng)
     t0 = time.perf_counter()
-    run = session.run(1)
+    run = session.run(repetitions)
     if record:
         with tempfile.TemporaryDirectory() as tmp:
             rec = open_recording(rrd=Path(tmp) / "bench.rrd")
@@ -58,12 +58,15 @@ def bench_repetition(scenario: str = "multi-subject", mode: str = "hrc", seed: i
             "robot_actions": sum(a.agent != "human" for a in run.allocations)}
 
 
-def bench_sim(scenario: str = "multi-subject", mode: str = "hrc", repeats: int = 3, seed: int = 0) -> dict:
-    """Medians over ``repeats`` of: real-time factor and overhead ratio, logging off and on."""
+def bench_sim(scenario: str = "multi-subject", mode: str = "hrc", repeats: int = 3, seed: int = 0,
+              repetitions: int = 1) -> dict:
+    """Medians over ``repeats`` (subjects of seeds ``seed``, ``seed`` + 1, ...) of: real-time factor and
+    overhead ratio of ``repetitions`` repetitions, logging off and on."""
     rows = {"off": [], "on": []}
     for r in range(repeats):
         for key in ("off", "on"):  # interleaved, so both see the same machine load
-            rows[key].append(bench_repetition(scenario, mode, seed + r, record=key == "on"))
+            rows[key].append(bench_repetition(scenario, mode, seed + r, record=key == "on",
+                                              repetitions=repetitions))
 
     def med(key: str, f) -> float:
         return statistics.median(f(x) for x in rows[key])
@@ -71,7 +74,7 @@ def bench_sim(scenario: str = "multi-subject", mode: str = "hrc", repeats: int =
     rtf = med("off", lambda x: x["sim_time"] / x["wall"])
     rtf_on = med("on", lambda x: x["sim_time"] / x["wall"])
     return {
-        "scenario": scenario, "mode": mode, "repeats": repeats,
+        "scenario": scenario, "mode": mode, "repeats": repeats, "repetitions": repetitions,
         "sim_time_s": med("off", lambda x: x["sim_time"]),
         "wall_s": med("off", lambda x: x["wall"]),
         "realtime_factor": rtf,

@@ -10,12 +10,14 @@ minimum-jerk slerp. The part itself stays a physical body: only the constraint's
 
 from __future__ import annotations
 
+import math
+
 import mujoco
 import numpy as np
 
 from ergosim.worker.minimum_jerk import min_jerk
 
-__all__ = ["InHandTurn", "relative_pose"]
+__all__ = ["InHandTurn", "relative_pose", "slerp"]
 
 
 def relative_pose(p1: np.ndarray, q1: np.ndarray, p2: np.ndarray,
@@ -29,21 +31,32 @@ def relative_pose(p1: np.ndarray, q1: np.ndarray, p2: np.ndarray,
     return r1.reshape(3, 3).T @ (p2 - p1), q
 
 
-def _slerp(qa: np.ndarray, qb: np.ndarray, s: float) -> np.ndarray:
+def _quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Hamilton products of (..., 4) wxyz quaternions."""
+    aw, ax, ay, az = np.moveaxis(a, -1, 0)
+    bw, bx, by, bz = np.moveaxis(b, -1, 0)
+    return np.stack([aw * bw - ax * bx - ay * by - az * bz, aw * bx + ax * bw + ay * bz - az * by,
+                     aw * by - ax * bz + ay * bw + az * bx, aw * bz + ax * by - ay * bx + az * bw], axis=-1)
+
+
+def slerp(qa: np.ndarray, qb: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """(n, 4) unit quaternions from ``qa`` (s = 0) to ``qb`` (s = 1) along the shorter arc, for (n,) ``s``."""
     if np.dot(qa, qb) < 0.0:
         qb = -qb
-    dq = np.empty(4)
-    mujoco.mju_mulQuat(dq, qa * np.array([1.0, -1.0, -1.0, -1.0]), qb)
-    vel = np.empty(3)
-    mujoco.mju_quat2Vel(vel, dq, 1.0)
-    out = qa.copy()
-    mujoco.mju_quatIntegrate(out, vel, s)
-    return out
+    dq = _quat_mul(qa * np.array([1.0, -1.0, -1.0, -1.0]), qb)
+    dq /= np.linalg.norm(dq)
+    half = math.atan2(float(np.linalg.norm(dq[1:])), float(dq[0]))  # half the relative rotation angle
+    axis = dq[1:] / math.sin(half) if half > 1e-12 else np.zeros(3)
+    h = np.asarray(s, dtype=float)[:, None] * half
+    step = np.concatenate([np.cos(h), np.sin(h) * axis], axis=1)
+    return _quat_mul(qa, step)
 
 
 class InHandTurn:
-    """Moves weld ``eq`` of ``model`` from its current relative pose to (``pos1``, ``quat1``) between control
-    frames ``start`` and ``end`` of the worker's segment."""
+    """Moves weld ``eq`` of ``model`` from its relative pose at control frame ``start`` (just after the grasp)
+    to (``pos1``, ``quat1``) at frame ``end`` of the worker's segment, along a minimum-jerk profile.
+
+    The whole path is computed once, at ``start``; each frame then copies one row into the weld."""
 
     def __init__(self, model: mujoco.MjModel, eq: int, pos1: np.ndarray, quat1: np.ndarray,
                  start: int, end: int) -> None:
@@ -51,15 +64,20 @@ class InHandTurn:
         self.eq = eq
         self.pos1, self.quat1 = np.asarray(pos1, float), np.asarray(quat1, float)
         self.start, self.end = int(start), max(int(end), int(start) + 1)
-        self.pos0: np.ndarray | None = None
-        self.quat0: np.ndarray | None = None
+        self._pos: np.ndarray | None = None
+        self._quat: np.ndarray | None = None
+
+    def _plan(self, pos0: np.ndarray, quat0: np.ndarray) -> None:
+        s = min_jerk(np.arange(self.end - self.start + 1) / (self.end - self.start))
+        self._pos = pos0 + s[:, None] * (self.pos1 - pos0)
+        self._quat = slerp(quat0, self.quat1, s)
 
     def __call__(self, frame: int) -> None:
         if frame < self.start or frame > self.end:
             return
         data = self.model.eq_data[self.eq]
-        if self.pos0 is None:
-            self.pos0, self.quat0 = data[3:6].copy(), data[6:10].copy()
-        s = float(min_jerk(np.array([(frame - self.start) / (self.end - self.start)]))[0])
-        data[3:6] = (1.0 - s) * self.pos0 + s * self.pos1
-        data[6:10] = _slerp(self.quat0, self.quat1, s)
+        if self._pos is None:
+            self._plan(data[3:6].copy(), data[6:10].copy())
+        i = frame - self.start
+        data[3:6] = self._pos[i]
+        data[6:10] = self._quat[i]

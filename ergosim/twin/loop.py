@@ -1,7 +1,8 @@
 """The digital-twin loop of paper Fig. 1 for one subject in one mode.
 
-Every control tick (the mocap rate, 60 Hz by default) the worker's true posture sets the human's ``qpos``,
-the robot's skill sets its actuators, and MuJoCo steps the plant. Every ergonomics tick (20 Hz) the
+Every control tick (the mocap rate, 60 Hz by default) the worker's true posture sets the human's ``qpos``
+(and so the scene's mocap segments, :class:`~ergosim.human.mocap.MocapHuman`), the robot's skill sets its
+actuators, and MuJoCo steps the plant. Every ergonomics tick (20 Hz) the
 measured mocap frame's RULA part scores G_i advance KWear (eq. 3-5). When an action completes -- detected
 in the scene: a profile seated, a part placed, a handover taken -- the risk index predicts V̂ for every
 candidate action (eq. 9), the cost model turns it into hyper-arc costs (eq. 10-11), and the planner
@@ -15,6 +16,7 @@ import mujoco
 import numpy as np
 
 from ergosim.ergonomics.risk_index import KWearIndex
+from ergosim.errors import ModelError
 from ergosim.posture import KWEAR_JOINTS
 from ergosim.twin.records import TICK_COLUMNS, TickLog
 from ergosim.twin.worker_track import WorkerTrack
@@ -22,6 +24,9 @@ from ergosim.twin.worker_track import WorkerTrack
 __all__ = ["Plant"]
 
 _M = len(KWEAR_JOINTS)
+# When nothing is queued the worker holds the rest posture, measured in chunks of this many seconds (one
+# vectorised RULA pass each); a chunk cut short by the next action costs only unused frames.
+_REST_CHUNK = 5.0
 # tick-log columns copied from the segment's per-frame table, and KWear's
 _SCORES = slice(TICK_COLUMNS.index("acting"), TICK_COLUMNS.index("rula_grand") + 1)
 _KWEAR = slice(TICK_COLUMNS.index(f"kwear_{KWEAR_JOINTS[0]}"),
@@ -37,13 +42,15 @@ class Plant:
     one of its skills is active.
     """
 
-    def __init__(self, cell, track: WorkerTrack, human, kwear: KWearIndex, *, mocap_rate: float,
+    def __init__(self, cell, track: WorkerTrack, kwear: KWearIndex, *, mocap_rate: float,
                  ergonomics_rate: float, physics_dt: float, record_bodies: bool = False) -> None:
         self.cell = cell
         self.model: mujoco.MjModel = cell.model
         self.data: mujoco.MjData = cell.data
         self.track = track
-        self.human = human
+        if cell.human is None:
+            raise ModelError("the workcell has no human", where=cell.name)
+        self.human = cell.human
         self.kwear = kwear
         self.dt_control = 1.0 / mocap_rate
         self.n_sub = max(1, int(round(self.dt_control / physics_dt)))
@@ -58,9 +65,8 @@ class Plant:
         self.on_release = None
         self.frame_hook = None
         self._zero_g = np.zeros(_M)
+        self._posed = None  # the segment whose pose the scene's human shows
         self._row = np.empty(len(TICK_COLUMNS))
-        self._qadr = np.asarray(human.qadr)
-        self._dofadr = np.asarray(human.dofadr)
         self.record_bodies = record_bodies
         self.body_pos: list[np.ndarray] = []
         self.body_quat: list[np.ndarray] = []
@@ -83,11 +89,12 @@ class Plant:
     # -- one control tick ----------------------------------------------------------------------------------
     def step(self) -> None:
         track = self.track
-        seg = track.start_rest(1.0) if track.exhausted else track.segment
+        seg = track.start_rest(_REST_CHUNK) if track.exhausted else track.segment
         k = track.advance()
         d = self.data
-        d.qpos[self._qadr] = seg.qpos[k]
-        d.qvel[self._dofadr] = 0.0
+        if seg is not self._posed or not seg.static:
+            self.human.pose(d, seg.qpos[k])
+            self._posed = seg
         if k == seg.grasp_frame and track.index == k + 1 and self.on_grasp is not None:
             self.on_grasp()
         if k == seg.release_frame and track.index == k + 1 and self.on_release is not None:

@@ -14,7 +14,6 @@ import numpy as np
 from ergosim.ergonomics.cost import CostParams, rula_baseline_params
 from ergosim.ergonomics.kwear import kwear_trajectory
 from ergosim.ergonomics.risk_index import KWearIndex, StaticRulaIndex
-from ergosim.human.model import HumanModel
 from ergosim.planner import corner_joint_task
 from ergosim.posture import KWEAR_JOINTS
 from ergosim.scenes import build_scene
@@ -66,7 +65,7 @@ def build_rig(cfg: ScenarioConfig, subject: Subject, rng: np.random.Generator,
                                     noise=cfg.noise_scale > 0)
     worker = track.worker
     kwear = KWearIndex(subject.kwear_params(), alphas or {}, online_weight=cfg.online_alpha_weight)
-    plant = Plant(cell, track, HumanModel(cell.model), kwear, mocap_rate=cfg.mocap_rate,
+    plant = Plant(cell, track, kwear, mocap_rate=cfg.mocap_rate,
                   ergonomics_rate=cfg.ergonomics_rate, physics_dt=cfg.physics_dt, record_bodies=record_bodies)
     robot = RobotTrack(cell, ee_speed=cfg.ee_speed)
     plant.robot = robot

@@ -57,7 +57,6 @@ class Session:
         self.allocations: list[Allocation] = []
         self.failures: list[str] = []
         self.decisions: list[Decision] = []
-        self._scratch = mujoco.MjData(self.cell.model)
 
     # -- completion, detected in the scene -----------------------------------------------------------------
     def completed(self, geom) -> bool:
@@ -95,17 +94,13 @@ class Session:
 
     def _in_hand_turn(self, motion, geom, body: str) -> InHandTurn:
         """The weld target that brings ``body`` onto ``geom.target`` when the hand reaches its place pose."""
-        cell, plant = self.cell, self.plant
+        cell = self.cell
         rate = motion.rate
         place = next(ph for ph in motion.phases if ph.name in ("place", "insert"))
         start = int(np.ceil(motion.t_grasp * rate))
         end = min(int(np.ceil(place.start * rate)), len(motion.t) - 1)
-        # Hand pose at the place frame, from the scene's own kinematics on a scratch copy.
-        scratch = self._scratch
-        scratch.qpos[:] = plant.data.qpos
-        scratch.qpos[plant.human.qadr] = np.deg2rad(motion.angles[end])
-        mujoco.mj_kinematics(cell.model, scratch)
-        hand = cell.model.body(cell.hand_bodies[self.hand]).id
+        # Hand pose at the place frame, from the human's own kinematics.
+        hand_p, hand_q = cell.human.segment_pose_at(motion.angles[end], cell.hand_bodies[self.hand])
         tgt_p, tgt_q = cell.site_pose(geom.target)
         if body != geom.part:  # the whole assembly, held by one of its profiles: keep the profile's offset
             rel_p, rel_q = relative_pose(*cell.body_pose(geom.part), *cell.body_pose(body))
@@ -114,7 +109,7 @@ class Session:
             q = np.empty(4)
             mujoco.mju_mulQuat(q, tgt_q, rel_q)
             tgt_p, tgt_q = tgt_p + r.reshape(3, 3) @ rel_p, q
-        pos1, quat1 = relative_pose(scratch.xpos[hand], scratch.xquat[hand], tgt_p, tgt_q)
+        pos1, quat1 = relative_pose(hand_p, hand_q, tgt_p, tgt_q)
         eq = cell.model.equality(weld_name(self.hand, body)).id
         return InHandTurn(cell.model, eq, pos1, quat1, start, end)
 

@@ -38,7 +38,8 @@ class Segment:
     ``qpos`` (n, 22) [rad] is the true posture that drives the model; ``scores`` (n, 24) holds the tick-log
     columns ``acting``, ``dropout``, the measured angles, RULA per part and the grand score, computed once
     per segment so the per-tick loop only copies rows; ``g`` (n, 5) KWear inputs G_i (paper eq. 3);
-    ``acting`` tells wear from recovery (eq. 3 vs eq. 5). Views: ``true`` (n, 22) [deg], ``measured``
+    ``acting`` tells wear from recovery (eq. 3 vs eq. 5); ``static``: every frame has the same true posture
+    (a held rest), so the body needs posing once. Views: ``true`` (n, 22) [deg], ``measured``
     (n, 14) [deg] what the suit reports (NaN rows are dropouts), ``rula`` (n, 7) part scores in
     :data:`RULA_PARTS` order and ``grand`` (n,), NaN on dropouts.
     """
@@ -50,6 +51,7 @@ class Segment:
     acting: bool
     grasp_frame: int
     release_frame: int
+    static: bool = False
 
     @property
     def true(self) -> np.ndarray:
@@ -96,7 +98,9 @@ class WorkerTrack:
         grasp = int(np.ceil(motion.t_grasp * rate)) if np.isfinite(motion.t_grasp) else -1
         release = int(np.ceil(motion.t_release * rate)) if np.isfinite(motion.t_release) else -1
         scores = np.column_stack([np.full(len(g), float(acting)), np.isnan(g[:, 0]), measured, parts, grand])
-        return Segment(motion, np.deg2rad(motion.angles), scores, g, acting, grasp, release)
+        qpos = np.deg2rad(motion.angles)
+        static = bool((qpos == qpos[0]).all())
+        return Segment(motion, qpos, scores, g, acting, grasp, release, static)
 
     def start_action(self, motion: ActionMotion) -> Segment:
         self.segment, self.index = self._measure(motion, acting=True), 0

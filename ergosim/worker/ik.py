@@ -97,19 +97,13 @@ class IKSolution(NamedTuple):
 
 
 def log_so3(r: np.ndarray) -> np.ndarray:
-    """Rotation vector of a 3x3 rotation matrix [rad]."""
-    cos = np.clip(0.5 * (np.trace(r) - 1.0), -1.0, 1.0)
-    angle = np.arccos(cos)
-    w = np.array([r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]])
-    if angle < 1e-6:
-        return 0.5 * w
-    if np.pi - angle < 1e-4:  # near pi the skew part vanishes; take the axis from the symmetric part
-        axis = np.sqrt(np.maximum((np.diag(r) + 1.0) * 0.5, 0.0))
-        k = int(np.argmax(axis))
-        axis = (r[:, k] + r[k, :]) * 0.5 / max(axis[k], 1e-9)
-        axis[k] = np.sqrt(max((r[k, k] + 1.0) * 0.5, 0.0))
-        return angle * axis / np.linalg.norm(axis)
-    return angle / (2.0 * np.sin(angle)) * w
+    """Rotation vector (3,) [rad] of a 3x3 rotation matrix, angle in [0, pi]: through the unit quaternion
+    (MuJoCo's ``mju_mat2Quat``, stable near pi) and its logarithm (``mju_quat2Vel``)."""
+    quat = np.empty(4)
+    mujoco.mju_mat2Quat(quat, np.ascontiguousarray(r, dtype=float).reshape(9))
+    vel = np.empty(3)
+    mujoco.mju_quat2Vel(vel, quat, 1.0)
+    return vel
 
 
 class UpperBodyIK:
@@ -175,10 +169,11 @@ class UpperBodyIK:
         lam = np.empty(n_task)
         jacp, jacr = self._jacp, self._jacr
 
-        def merit(qa: np.ndarray, task_err: float) -> float:
-            d = qa - pref
-            below, above = np.minimum(qa - lo_c, 0.0), np.maximum(qa - hi_c, 0.0)
-            return float(w2 @ (d * d) + wc2 * (below @ below + above @ above)) + 2e4 * task_err
+        def violation(qa: np.ndarray) -> np.ndarray:  # signed excess over the comfort box (0 inside)
+            return np.minimum(qa - lo_c, 0.0) + np.maximum(qa - hi_c, 0.0)
+
+        def merit(d: np.ndarray, viol: np.ndarray, task_err: float) -> float:
+            return float(w2 @ (d * d) + wc2 * (viol @ viol)) + 2e4 * task_err
 
         def task_error() -> float:  # of the current forward kinematics
             e = xpos - target
@@ -189,6 +184,8 @@ class UpperBodyIK:
             return err_t
 
         qa = q[act]
+        d = qa - pref
+        viol = violation(qa)
         it = 0
         for it in range(1, (max_iter or self.max_iter) + 1):
             # forward kinematics are those of qa here (set by _trunk_turn or by the last line-search trial)
@@ -202,34 +199,47 @@ class UpperBodyIK:
             pos_err = math.sqrt(err[:3] @ err[:3])
             # a linear step cannot be trusted far from the target: cap the task step per iteration
             b = err * min(1.0, 0.15 / max(pos_err, 1e-12))
-            below, above = qa < lo_c, qa > hi_c
-            h = w2 + wc2 * (below | above)
-            g = w2 * (qa - pref) + wc2 * (below * (qa - lo_c) + above * (qa - hi_c))
-            free = np.ones(len(act), dtype=bool)
-            fixed = np.zeros(len(act))  # steps of joints frozen at their range
-            for _ in range(4):  # pin joints pushed past their range to it, re-solve the others
-                hinv = np.where(free, 1.0 / h, 0.0)
-                ah = a * hinv
-                kkt = ah @ a.T
-                kkt.flat[diag] += 1e-8
-                mujoco.mju_cholFactor(kkt, 0.0)
-                mujoco.mju_cholSolve(lam, kkt, b - a @ fixed + ah @ g)
-                step = hinv * (lam @ a - g) + fixed
-                new = qa + step
-                out = free & ((new < lo) | (new > hi))
-                if not out.any():
-                    break
-                fixed[out] = np.minimum(np.maximum(new[out], lo[out]), hi[out]) - qa[out]
-                free &= ~out
-            step = np.minimum(np.maximum(qa + step, lo), hi) - qa
+            outside = viol != 0.0
+            h = w2 + wc2 * outside
+            g = w2 * d + wc2 * viol
+            # the unconstrained step, then: pin joints pushed past their range to it, re-solve the others
+            hinv = 1.0 / h
+            ah = a * hinv
+            kkt = ah @ a.T
+            kkt.flat[diag] += 1e-8
+            mujoco.mju_cholFactor(kkt, 0.0)
+            mujoco.mju_cholSolve(lam, kkt, b + ah @ g)
+            step = hinv * (lam @ a - g)
+            new = qa + step
+            out = (new < lo) | (new > hi)
+            if out.any():
+                free = ~out
+                fixed = np.zeros(len(act))  # steps of joints frozen at their range
+                for _ in range(3):
+                    fixed[out] = np.minimum(np.maximum(new[out], lo[out]), hi[out]) - qa[out]
+                    hinv = np.where(free, 1.0 / h, 0.0)
+                    ah = a * hinv
+                    kkt = ah @ a.T
+                    kkt.flat[diag] += 1e-8
+                    mujoco.mju_cholFactor(kkt, 0.0)
+                    mujoco.mju_cholSolve(lam, kkt, b - a @ fixed + ah @ g)
+                    step = hinv * (lam @ a - g) + fixed
+                    new = qa + step
+                    out = free & ((new < lo) | (new > hi))
+                    if not out.any():
+                        break
+                    free &= ~out
+            step = np.minimum(np.maximum(new, lo), hi) - qa
             step *= min(1.0, 0.3 / max(np.abs(step).max(), 1e-12))
             # exact-penalty merit line search: keeps the SQP from cycling in the wrist/forearm null space
-            m0 = merit(qa, math.sqrt(err @ err))
+            m0 = merit(d, viol, math.sqrt(err @ err))
             for _ in range(6):
                 trial = qa + step
                 data.qpos[qadr] = trial
                 mujoco.mj_kinematics(model, data)
-                if merit(trial, task_error()) < m0:
+                d = trial - pref
+                viol = violation(trial)
+                if merit(d, viol, task_error()) < m0:
                     break
                 step *= 0.5
             qa = trial

@@ -13,7 +13,9 @@ from dataclasses import dataclass
 
 import mujoco
 import numpy as np
+from scipy.signal import lfilter
 
+from ergosim.human.mocap import MocapHuman
 from ergosim.human.model import HumanModel
 from ergosim.posture import HUMAN_JOINTS
 from ergosim.worker.subjects import Subject
@@ -67,12 +69,10 @@ class MocapStream:
             # exact discretisation of the OU bias: b_k+1 = a b_k + sqrt(1 - a^2) sigma w_k
             a = np.exp(-1.0 / (self.rate * self.bias_tau))
             w = self.rng.normal(0.0, self.subject.bias_deg * np.sqrt(1.0 - a * a), angles.shape)
-            bias = np.empty_like(angles)
-            b = self.bias
-            for k in range(n):  # sequential by nature; 22 floats per frame
-                b = a * b + w[k]
-                bias[k] = b
-            self.bias = b
+            # the recursion as a first-order IIR filter over the frames, continuing from the last bias
+            bias, _ = lfilter([1.0], [1.0, -a], w, axis=0, zi=(a * self.bias)[None, :])
+            if n:
+                self.bias = bias[-1].copy()
             out += bias + self.rng.normal(0.0, self.subject.noise_deg, angles.shape)
         valid = np.ones(n, dtype=bool)
         if self.dropout_rate > 0.0:
@@ -95,12 +95,14 @@ class MocapStream:
 class MotionPlayback:
     """Drives the human in a scene from a trajectory of true angles (kinematically, never by forces).
 
-    ``apply(data, t)`` writes the linearly interpolated angles at time ``t`` [s] (and the matching joint
-    velocities) into ``data.qpos``/``qvel``; with ``kinematics=True`` it also runs ``mj_kinematics``, as
-    mink's ``Configuration.update`` does. Call it before each physics step so a held part follows the hand.
+    ``apply(data, t)`` poses the human at the linearly interpolated angles at time ``t`` [s] (with the
+    matching joint velocities for an articulated human); with ``kinematics=True`` it also runs
+    ``mj_kinematics``, as mink's ``Configuration.update`` does. Call it before each physics step so a held
+    part follows the hand. ``human``: a workcell's :class:`~ergosim.human.mocap.MocapHuman`, or by default
+    the :class:`HumanModel` of a ``model`` that has the human's joints.
     """
 
-    def __init__(self, model: mujoco.MjModel, human: HumanModel | None = None) -> None:
+    def __init__(self, model: mujoco.MjModel, human: HumanModel | MocapHuman | None = None) -> None:
         self.model = model
         self.human = human if human is not None else HumanModel(model)
         self._t: np.ndarray | None = None
@@ -126,7 +128,6 @@ class MotionPlayback:
             qd = self._qd[k]
         else:
             q, qd = self._q[-1], np.zeros_like(self._q[-1])
-        data.qpos[self.human.qadr] = q
-        data.qvel[self.human.dofadr] = qd
+        self.human.pose(data, q, qd)
         if kinematics:
             mujoco.mj_kinematics(self.model, data)
