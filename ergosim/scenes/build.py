@@ -66,8 +66,8 @@ def new_spec(name: str, cfg: WorkcellConfig) -> mujoco.MjSpec:
     spec.compiler.degree = False
     spec.option.timestep = cfg.timestep
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
-    # Bodies at rest (parts on a table, an idle robot, the human between mocap frames) sleep: the sim steps
-    # 2-3x faster. Writing qpos, a control change, a contact or a weld wakes them.
+    # Bodies at rest (parts on a table, a seated assembly) sleep: the sim steps 2-3x faster. Writing qpos, a
+    # contact or a weld wakes them. (The human is mocap segments and the actuated robot never sleeps.)
     spec.option.enableflags |= mujoco.mjtEnableBit.mjENBL_SLEEP
     spec.stat.center = [0.5, 0.0, 1.0]
     spec.stat.extent = 2.0
