@@ -92,7 +92,6 @@ class MocapHuman(HumanReadout):
         self.eye_site = _scene_id(scene, mujoco.mjtObj.mjOBJ_SITE, kin.site(self.kin.eye_site).name)
         self.shoulder_body = {side: _scene_id(scene, mujoco.mjtObj.mjOBJ_BODY, kin.body(i).name)
                               for side, i in self.kin.shoulder_body.items()}
-        self.hand_body = {side: int(scene.site_bodyid[s]) for side, s in self.hand_site.items()}
 
     # -- driving ---------------------------------------------------------------------------------------------
     def pose(self, data: mujoco.MjData, qpos: np.ndarray, qvel: np.ndarray | None = None) -> None:
@@ -130,10 +129,6 @@ class MocapHuman(HumanReadout):
         mujoco.mj_kinematics(self.kin_model, kd)
         b = self.kin_model.body(body).id
         return kd.xpos[b].copy(), kd.xquat[b].copy()
-
-    @property
-    def joints(self) -> tuple[str, ...]:
-        return HUMAN_JOINTS
 
 
 def _scene_id(scene: mujoco.MjModel, kind: mujoco.mjtObj, name: str) -> int:
