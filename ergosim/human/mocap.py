@@ -94,14 +94,19 @@ class MocapHuman(HumanReadout):
                               for side, i in self.kin.shoulder_body.items()}
 
     # -- driving ---------------------------------------------------------------------------------------------
+    def _fk(self, qpos: np.ndarray) -> mujoco.MjData:
+        """Forward kinematics of the articulated model at the 22 angles [rad]; its data."""
+        kd = self.kin_data
+        kd.qpos[self._qadr] = qpos
+        mujoco.mj_kinematics(self.kin_model, kd)
+        return kd
+
     def pose(self, data: mujoco.MjData, qpos: np.ndarray, qvel: np.ndarray | None = None) -> None:
         """Set the 22 angles [rad]: forward kinematics of the articulated model, then the segments' world
         poses into ``data.mocap_pos``/``mocap_quat`` (in effect from the next ``mj_step``/``mj_kinematics``).
         ``qvel`` is accepted for the same call as :meth:`HumanModel.pose` and unused: mocap bodies have no
         velocity state."""
-        kd = self.kin_data
-        kd.qpos[self._qadr] = qpos
-        mujoco.mj_kinematics(self.kin_model, kd)
+        kd = self._fk(qpos)
         data.mocap_pos[self._mocap] = kd.xpos[self._kbody]
         data.mocap_quat[self._mocap] = kd.xquat[self._kbody]
 
@@ -124,9 +129,7 @@ class MocapHuman(HumanReadout):
     def segment_pose_at(self, angles_deg: np.ndarray, body: str) -> tuple[np.ndarray, np.ndarray]:
         """World pose (position (3,) [m], quaternion (4,) wxyz) segment ``body`` would have at (22,) angles
         [deg], from the articulated model alone (the scene is untouched)."""
-        kd = self.kin_data
-        kd.qpos[self._qadr] = np.deg2rad(np.asarray(angles_deg, dtype=float))
-        mujoco.mj_kinematics(self.kin_model, kd)
+        kd = self._fk(np.deg2rad(np.asarray(angles_deg, dtype=float)))
         b = self.kin_model.body(body).id
         return kd.xpos[b].copy(), kd.xquat[b].copy()
 

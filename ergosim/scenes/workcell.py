@@ -85,6 +85,7 @@ class Workcell:
         self._hollow = {p: model.site(f"J_hollow_{p}").id for p in PROFILES}
         self._collision_geoms = {p: np.flatnonzero((model.geom_bodyid == self._body[p])
                                                    & (model.geom_contype != 0)) for p in PARTS}
+        self._all_collision_geoms = np.concatenate(list(self._collision_geoms.values()))
         self.reset()
 
     # -- poses ----------------------------------------------------------------------------------------------
@@ -106,20 +107,15 @@ class Workcell:
         """Everything to the ``home`` keyframe; all welds off."""
         mujoco.mj_resetDataKeyframe(self.model, self.data, self.home_key)
         self.data.eq_active[:] = 0
-        self._restore_collisions()
+        self.pass_through(self._all_collision_geoms, False)
         mujoco.mj_forward(self.model, self.data)
-
-    def _restore_collisions(self) -> None:
-        for geoms in self._collision_geoms.values():
-            self.model.geom_contype[geoms] = PART_COLLISION["contype"]
-            self.model.geom_conaffinity[geoms] = PART_COLLISION["conaffinity"]
 
     def reset_parts(self) -> None:
         """Lay the parts out again at their initial poses (welds off, at rest); robot and human untouched."""
         key_qpos = self.model.key_qpos[self.home_key]
         for eq in (*self._weld.values(), *self._seat.values()):
             self.data.eq_active[eq] = 0
-        self._restore_collisions()
+        self.pass_through(self._all_collision_geoms, False)
         for part in PARTS:
             jnt = self.model.body_jntadr[self._body[part]]
             qa, va = self.model.jnt_qposadr[jnt], self.model.jnt_dofadr[jnt]
@@ -177,7 +173,7 @@ class Workcell:
             self._robot_contacts(part, True)
         self._wake(self._hand[holder], self._body[part])
 
-    def _assembly(self, part: str) -> list[str]:
+    def assembly(self, part: str) -> list[str]:
         """``part`` and the parts welded to it by seats (J and its seated profiles move as one)."""
         if part == "J" or (part in PROFILES and self.is_seated(part)):
             return ["J", *(p for p in PROFILES if self.is_seated(p))]
@@ -187,13 +183,23 @@ class Workcell:
         """Switch the robot bit of the collision affinity of ``part``'s assembly. Geoms switched off
         altogether (a part carried by the worker passes through everything) are left as they are."""
         m = self.model
-        for p in self._assembly(part):
-            geoms = self._collision_geoms[p]
-            live = geoms[m.geom_contype[geoms] != 0]
-            if on:
-                m.geom_conaffinity[live] |= _ROBOT_BIT
-            else:
-                m.geom_conaffinity[live] &= ~_ROBOT_BIT
+        geoms = self.collision_geoms(part)
+        live = geoms[m.geom_contype[geoms] != 0]
+        if on:
+            m.geom_conaffinity[live] |= _ROBOT_BIT
+        else:
+            m.geom_conaffinity[live] &= ~_ROBOT_BIT
+
+    def collision_geoms(self, part: str) -> np.ndarray:
+        """The collision geoms of ``part``'s assembly (:meth:`assembly`)."""
+        return np.concatenate([self._collision_geoms[p] for p in self.assembly(part)])
+
+    def pass_through(self, geoms: np.ndarray, on: bool) -> None:
+        """Switch part collision geoms ``geoms`` off altogether (``on``: a part the kinematic worker carries
+        passes through furniture and robot, like the worker) or back to the parts' own bits
+        (``PART_COLLISION``)."""
+        self.model.geom_contype[geoms] = 0 if on else PART_COLLISION["contype"]
+        self.model.geom_conaffinity[geoms] = 0 if on else PART_COLLISION["conaffinity"]
 
     def holder_of(self, part: str) -> str | None:
         for (h, p), eq in self._weld.items():

@@ -2,12 +2,11 @@
 
 Every control tick (the mocap rate, 60 Hz by default) the worker's true posture sets the human's ``qpos``
 (and so the scene's mocap segments, :class:`~ergosim.human.mocap.MocapHuman`), the robot's skill sets its
-actuators, and MuJoCo steps the plant. Every ergonomics tick (20 Hz) the
-measured mocap frame's RULA part scores G_i advance KWear (eq. 3-5). When an action completes -- detected
-in the scene: a profile seated, a part placed, a handover taken -- the risk index predicts V̂ for every
-candidate action (eq. 9), the cost model turns it into hyper-arc costs (eq. 10-11), and the planner
-(RecursiveAO*, Algorithm 2) returns the next (action, agent), which is dispatched to the robot's skill or
-to the worker's motion.
+actuators, and MuJoCo steps the plant. Every ergonomics tick (20 Hz) the measured mocap frame's RULA part
+scores G_i advance KWear (eq. 3-5). When an action completes -- detected in the scene: a profile seated, a
+part placed, a handover taken -- the risk index predicts V̂ for every candidate action (eq. 9), the cost
+model turns it into hyper-arc costs (eq. 10-11), and the planner (RecursiveAO*, Algorithm 2) returns the
+next (action, agent), which is dispatched to the robot's skill or to the worker's motion.
 """
 
 from __future__ import annotations

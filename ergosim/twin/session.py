@@ -13,7 +13,6 @@ import numpy as np
 
 from ergosim.errors import InfeasiblePlanError
 from ergosim.scenes.build import weld_name
-from ergosim.scenes.parts import PART_COLLISION, PROFILES
 from ergosim.twin.allocator import Allocator, Decision
 from ergosim.twin.in_hand import InHandTurn, relative_pose
 from ergosim.twin.loop import Plant
@@ -73,25 +72,6 @@ class Session:
         return self.plant.run_until(lambda: self.completed(geom), seconds) or self.completed(geom)
 
     # -- the worker does an action -------------------------------------------------------------------------
-    def _carried(self, grasp_part: str) -> np.ndarray:
-        """Collision geoms that move with the worker's hand: the grasped part's, or the whole assembly's when
-        the grasped part is J or a profile seated in it."""
-        cell, model = self.cell, self.cell.model
-        bodies = {grasp_part}
-        if grasp_part == "J" or (grasp_part in PROFILES and cell.is_seated(grasp_part)):
-            bodies |= {"J", *(p for p in PROFILES if cell.is_seated(p))}
-        ids = [model.body(b).id for b in bodies]
-        return np.flatnonzero(np.isin(model.geom_bodyid, ids) & (model.geom_contype != 0))
-
-    def _pass_through(self, geoms: np.ndarray, on: bool) -> None:
-        """The worker's motion is kinematic and not collision-planned, like the human body itself: what the
-        worker carries passes through the furniture and the robot until it is released, then it collides
-        again with the parts' own bits (``PART_COLLISION``) and comes to rest on its own (the scene then
-        decides completion)."""
-        model = self.cell.model
-        model.geom_contype[geoms] = 0 if on else PART_COLLISION["contype"]
-        model.geom_conaffinity[geoms] = 0 if on else PART_COLLISION["conaffinity"]
-
     def _in_hand_turn(self, motion, geom, body: str) -> InHandTurn:
         """The weld target that brings ``body`` onto ``geom.target`` when the hand reaches its place pose."""
         cell = self.cell
@@ -124,15 +104,19 @@ class Session:
         plant.track.start_action(motion)
         grasp_part = cell.grasp_body(geom.part) if geom.kind == "remove" else geom.part
 
-        carried = self._carried(grasp_part)
+        # The worker's motion is kinematic and not collision-planned, like the human body itself: what the
+        # worker carries (the grasped part, or the whole assembly) passes through the furniture and the robot
+        # until it is released, then collides again and comes to rest on its own (the scene then decides
+        # completion).
+        carried = cell.collision_geoms(grasp_part)
 
         def on_grasp() -> None:
             cell.grasp(self.hand, grasp_part)  # at a handover the robot sees this and lets go
-            self._pass_through(carried, True)
+            cell.pass_through(carried, True)
 
         def on_release() -> None:
             cell.release(self.hand, grasp_part)
-            self._pass_through(carried, False)
+            cell.pass_through(carried, False)
             if geom.kind == "insert":
                 cell.seat(geom.part)
 
@@ -142,7 +126,7 @@ class Session:
             finished = plant.run_until(lambda: not plant.track.busy, motion.duration + 1.0)
         finally:
             plant.on_grasp = plant.on_release = plant.frame_hook = None
-            self._pass_through(carried, False)
+            cell.pass_through(carried, False)
         ok = finished and self._settle(geom, 0.5)
         status = "ok" if ok else ("timeout" if not finished else "not_completed")
         return _Outcome(ok, status, t0, plant.time)
