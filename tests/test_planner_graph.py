@@ -15,7 +15,7 @@ from ergosim.planner import (
     AndOrGraph,
     Operation,
     PlanStep,
-    corner_joint_task,
+    bundled_task,
     generate_task,
     replan_until_done,
 )
@@ -23,12 +23,12 @@ from ergosim.planner import (
 
 @pytest.fixture(scope="module")
 def multi():
-    return corner_joint_task("multi-subject")
+    return bundled_task("corner-joint:multi-subject")
 
 
 @pytest.fixture(scope="module")
 def kwear():
-    return corner_joint_task("kwear-validation")
+    return bundled_task("corner-joint:kwear-validation")
 
 
 def test_public_api_names_exist():

@@ -8,7 +8,7 @@ from importlib import resources
 import pytest
 
 from ergosim.errors import InfeasiblePlanError, TaskFileError
-from ergosim.planner import corner_joint_task, load_task, parse_task
+from ergosim.planner import BUNDLED_TASKS, bundled_task, load_task, parse_task
 
 HEAD = """
 name = "example"
@@ -124,13 +124,19 @@ agents = ["robot"]
 
 @pytest.mark.parametrize("variant", ["multi-subject", "kwear-validation"])
 def test_bundled_files_load_through_the_parser(variant):
-    name = f"corner-joint-{variant}.toml"
+    name = f"corner-joint/{variant}.toml"
     text = resources.files("ergosim").joinpath("data", "tasks", name).read_text(encoding="utf-8")
     g = parse_task(text, source=name)
-    bundled = corner_joint_task(variant)
+    bundled = bundled_task(f"corner-joint:{variant}")
     assert g.name == bundled.name == f"corner-joint-{variant}"
     assert g.operations == bundled.operations and g.parts == ("area", "J", "L", "S1", "S2", "away")
     assert {a.name: a.cost for a in g.agents}["robot"] == (2.5 if variant == "multi-subject" else 50.0)
+
+
+def test_bundled_names_come_from_the_data_folder():
+    assert {"corner-joint", "corner-joint:multi-subject", "corner-joint:kwear-validation"} <= set(
+        BUNDLED_TASKS)
+    assert bundled_task("corner-joint").operations == bundled_task("corner-joint:multi-subject").operations
 
 
 def error_text(tmp_path, text, kind=TaskFileError):

@@ -95,7 +95,7 @@ def test_the_gripper_holds_a_part_by_the_weld_without_squeezing_it(kwear, kin):
                             and j in (m.geom_bodyid[c.geom1], m.geom_bodyid[c.geom2]) for c in d.contact)
     assert res.status is SkillStatus.OK, res.message
     assert held > 1000 and touching == 0
-    width = 2 * wc.config.dims.core_half
+    width = wc.grip_width("J")
     assert np.ptp(opening) < 3e-4 and abs(np.mean(opening) - width) < 6e-4  # not closing into it
     assert res.place_error < 0.005
     wc.reset()

@@ -7,6 +7,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
+
 from ergosim.twin.benchmark import bench_repetition
 
 
@@ -24,6 +26,8 @@ def test_script_writes_the_json_fields_scripts_rely_on(tmp_path):
     assert proc.returncode == 0, proc.stderr
     res = json.loads(out.read_text())
     for key in ("realtime_factor", "overhead_ratio", "raw_realtime_factor", "realtime_factor_recording",
-                "recording_cost", "repetitions"):
+                "repetitions"):
         assert res[key] > 0, key
+    # a difference of two timings: its sign is noise on a loaded machine, its presence is the contract
+    assert np.isfinite(res["recording_cost"])
     assert "overhead ratio" in proc.stdout

@@ -7,7 +7,6 @@ action -- shortened only in subjects and repetitions.
 from __future__ import annotations
 
 import csv
-import dataclasses
 import json
 import subprocess
 import sys
@@ -18,15 +17,15 @@ import pytest
 from ergosim.cli import main
 from ergosim.posture import KWEAR_JOINTS
 from ergosim.twin.runner import run_subject
-from ergosim.twin.scenario import scenario_config
 from ergosim.twin.scenario_run import run_scenario
+from ergosim.twin.scenariofile import load_scenario
 from ergosim.viz import RecordingReader
 
 
 @pytest.fixture(scope="module")
 def hrc_run():
-    cfg = dataclasses.replace(scenario_config("multi-subject"), repetitions=2, modes=("hrc", "h-only"))
-    return cfg, run_subject(cfg, 0, 0, cfg.modes)
+    sc = load_scenario("multi-subject", {"repetitions": "2", "modes": "hrc,h-only"})
+    return sc.protocol, run_subject(sc, 0, 0, sc.protocol.modes)
 
 
 def test_hrc_completes_every_assembly_through_the_scene(hrc_run):
@@ -105,9 +104,9 @@ def test_robot_rests_the_worker(hrc_run):
 
 
 def _summary(tmp_path, jobs, name):
-    cfg = dataclasses.replace(scenario_config("kwear-validation"), subjects=2, repetitions=1, modes=("hrc",))
+    sc = load_scenario("kwear-validation", {"subjects": "2", "repetitions": "1", "modes": "hrc"})
     out = tmp_path / name
-    run_scenario("kwear-validation", cfg, seed=0, out=out, jobs=jobs, progress=False)
+    run_scenario(sc, seed=0, out=out, jobs=jobs, progress=False)
     return out
 
 

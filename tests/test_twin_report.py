@@ -11,7 +11,7 @@ import pytest
 from ergosim.errors import ConfigError
 from ergosim.twin.records import TICK_COLUMNS, Allocation, SubjectRun, TickLog
 from ergosim.twin.report import summarise, wilcoxon_between, write_allocations, write_summary, write_ticks
-from ergosim.twin.scenario import scenario_config
+from ergosim.twin.scenariofile import scenario_config
 
 
 def _run(subject: int, mode: str, agents: list[str], kwear_level: float) -> SubjectRun:

@@ -17,7 +17,7 @@ from scipy.spatial.transform import Rotation
 from ergosim.ergonomics.rula import RULA_PARTS
 from ergosim.posture import ANGLE_NAMES, KWEAR_JOINTS
 from ergosim.robot.assets import panda_mesh_dir
-from ergosim.scenes import PARTS, build_scene
+from ergosim.scenes import build_scene
 from ergosim.viz import (
     RecordingReader,
     TwinRecorder,
@@ -64,7 +64,7 @@ def run(cell, tmp_path_factory):
               "decisions": []}
     rec = open_recording(rrd=path)
     rec.flush_ticks = 250  # flushes mid-run, after each repetition's second batch, and at close
-    rec.log_static(cell.model, v_th=V_TH, body_groups=default_body_groups(cell.model, PARTS))
+    rec.log_static(cell.model, v_th=V_TH, body_groups=default_body_groups(cell.model, cell.parts))
     for rep in range(2):
         t = 38.0 * rep + np.arange(TICKS) / 20.0
         pos, quat = _body_poses(cell, t)
@@ -113,7 +113,7 @@ def test_recording_passes_rerun_rrd_verify(run):
 
 def test_every_moving_body_has_its_world_transform(cell, run, reader):
     _, logged, _, entities = run
-    bodies = scene_bodies(cell.model, default_body_groups(cell.model, PARTS))
+    bodies = scene_bodies(cell.model, default_body_groups(cell.model, cell.parts))
     static = {b.name for b in bodies if b.static_pose is not None}
     assert entities["panda_link3"] == "world/robot/panda_link3"
     assert entities["human_right_forearm"] == "world/human/right_forearm"

@@ -18,7 +18,7 @@ from ergosim.planner.graph import AndOrGraph
 from ergosim.planner.liaisons import Liaison, generate_operations, liaison_groups
 from ergosim.planner.validation import format_parts
 
-__all__ = ["load_task", "parse_task"]
+__all__ = ["load_task", "parse_task", "task_from_dict"]
 
 _TOP_KEYS = {"name", "description", "parts", "agents", "operations", "liaisons", "precedence"}
 _OP_KEYS = {"name", "action", "joins", "father", "cost", "agents"}
@@ -42,6 +42,11 @@ def parse_task(text: str, source: str = "<task>") -> AndOrGraph:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:
         raise TaskFileError(f"invalid TOML: {err}", where=source) from None
+    return _Builder(doc, source).build()
+
+
+def task_from_dict(doc: dict[str, Any], source: str = "<task>") -> AndOrGraph:
+    """Build the AND/OR graph of an already parsed task document (e.g. a scenario's inline ``[task]``)."""
     return _Builder(doc, source).build()
 
 

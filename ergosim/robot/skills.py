@@ -247,8 +247,7 @@ class _Carry(Skill):
         super().__init__(workcell, part, kin, params)
         self.grasp_site = workcell.grasp_site(part)
         self.grasp_body = workcell.grasp_body(part)
-        dims = workcell.config.dims
-        self.width = 2 * dims.core_half if self.grasp_body == "J" else dims.profile_width
+        self.width = workcell.grip_width(self.grasp_body)
 
     def _carry_waypoints(self, g: Pose, rel_p: np.ndarray, rel_r: np.ndarray, target: Pose,
                          approach_dir: np.ndarray, stand: float) -> tuple[list[tuple[Pose, float]], Pose]:
@@ -336,18 +335,21 @@ class PickPlace(_Carry):
     """Pick ``part`` and put its origin at the world pose ``target_pos`` (3,) [m], ``target_quat`` wxyz.
 
     ``approach``: world direction the part arrives from (default +z, from above; for a profile going into a
-    side hollow, the hollow's axis). ``seat``: weld an inserted profile into J when it is within tolerance.
+    side hollow, the hollow's axis). ``seat``: weld an inserted part into its slot when it is within
+    tolerance. ``hold`` [s]: keep holding the part at the target before letting go (fastening: the turn).
     """
 
     name = "pick_place"
 
     def __init__(self, workcell, part: str, target_pos, target_quat, *, approach=None, seat: bool = False,
-                 kin: PandaKinematics | None = None, params: SkillParams = SkillParams()) -> None:
+                 hold: float = 0.0, kin: PandaKinematics | None = None,
+                 params: SkillParams = SkillParams()) -> None:
         super().__init__(workcell, part, kin, params)
         self.target = Pose(np.asarray(target_pos, dtype=float), _quat_to_mat(target_quat))
         a = np.array([0.0, 0.0, 1.0]) if approach is None else np.asarray(approach, dtype=float)
         self.approach_dir = a / np.linalg.norm(a)
         self.seat = seat
+        self.hold = float(hold)
 
     def _program(self) -> Program:
         p = self.params
@@ -364,6 +366,8 @@ class PickPlace(_Carry):
         failure = yield from self._carry(reach, carry)
         if failure is not None:
             return failure
+        if self.hold > 0:
+            yield from self._hold(self.hold)
         self.wc.release("robot", self.grasp_body)
         seated = self.wc.seat(self.part) if self.seat else None
         yield from self._open()

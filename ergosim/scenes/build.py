@@ -1,7 +1,7 @@
-"""Building blocks shared by the workcells: furniture, the Panda, the human, the parts and their welds.
+"""Building blocks of every workcell: the empty scene, furniture, the Panda, the human, the welds.
 
-Every weld a run may need is declared here, inactive: one per (holder, part) and one per profile seated in
-J. :class:`~ergosim.scenes.workcell.Workcell` switches them on with the relative pose of that moment.
+Every weld a run may need is declared here, inactive: one per (holder, part) and one per part seated in a
+slot. :class:`~ergosim.scenes.workcell.Workcell` switches them on with the relative pose of that moment.
 """
 
 from __future__ import annotations
@@ -19,11 +19,10 @@ from ergosim.human.mocap import add_mocap_segments
 from ergosim.human.model import HAND_SITES, ROOT_BODY, HumanModel, human_spec
 from ergosim.robot.mjcf import HOME_QPOS
 from ergosim.robot.model import compile_spec, panda_spec
-from ergosim.scenes.config import Surface, WorkcellConfig
-from ergosim.scenes.parts import PARTS, PROFILES, add_corner_joint, add_profile, hollow_pose, rest_height
+from ergosim.scenes.cellspec import Surface, Worker
 
 __all__ = ["HOLDERS", "weld_name", "seat_name", "yaw_quat", "new_spec", "add_table", "add_box",
-           "attach_panda", "attach_human", "add_parts", "add_welds", "human_hand_bodies", "finish"]
+           "attach_panda", "attach_human", "add_welds", "human_hand_bodies", "finish"]
 
 HOLDERS = ("robot", "human_right", "human_left")
 WOOD = (0.72, 0.6, 0.45, 1.0)
@@ -34,8 +33,8 @@ def weld_name(holder: str, part: str) -> str:
     return f"hold_{holder}_{part}"
 
 
-def seat_name(profile: str) -> str:
-    return f"seat_{profile}"
+def seat_name(part: str) -> str:
+    return f"seat_{part}"
 
 
 def yaw_quat(yaw_deg: float) -> list[float]:
@@ -59,12 +58,12 @@ def _quiet_attach() -> Iterator[None]:
         warnings.warn(f"MuJoCo: {msg}", RuntimeWarning, stacklevel=3)
 
 
-def new_spec(name: str, cfg: WorkcellConfig) -> mujoco.MjSpec:
-    """An empty scene: options, floor, light, skybox."""
+def new_spec(name: str, timestep: float) -> mujoco.MjSpec:
+    """An empty scene: options (physics step ``timestep`` [s]), floor, light, skybox."""
     spec = mujoco.MjSpec()
     spec.modelname = name
     spec.compiler.degree = False
-    spec.option.timestep = cfg.timestep
+    spec.option.timestep = timestep
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
     # Bodies at rest (parts on a table, a seated assembly) sleep: the sim steps 2-3x faster. Writing qpos, a
     # contact or a weld wakes them. (The human is mocap segments and the actuated robot never sleeps.)
@@ -107,23 +106,24 @@ def add_table(spec: mujoco.MjSpec, surface: Surface, thickness: float = 0.04, le
             add_box(spec, f"{surface.name}_leg{i}", centre, (0.02, 0.02, leg_h))
 
 
-def attach_panda(spec: mujoco.MjSpec, cfg: WorkcellConfig, support_height: float | None = None) -> None:
-    """The Panda at ``cfg.robot_base``; a pedestal fills any gap down to ``support_height`` [m]."""
-    x, y, z = cfg.robot_base
+def attach_panda(spec: mujoco.MjSpec, base, yaw: float, timestep: float,
+                 support_height: float | None = None) -> None:
+    """The Panda's ``panda_link0`` at ``base`` (3,) [m] turned by ``yaw`` [deg]; a pedestal fills any gap down
+    to ``support_height`` [m]."""
+    x, y, z = base
     if support_height is not None and z - support_height > 0.005:
         half = (z - support_height) / 2
         add_box(spec, "robot_pedestal", (x - 0.04, y, support_height + half), (0.13, 0.11, half))
-    frame = spec.worldbody.add_frame(name="robot_base", pos=list(cfg.robot_base),
-                                     quat=yaw_quat(cfg.robot_yaw))
+    frame = spec.worldbody.add_frame(name="robot_base", pos=list(base), quat=yaw_quat(yaw))
     panda = panda_spec()
-    panda.option.timestep = cfg.timestep  # the scene's options win; equal values avoid a conflict notice
+    panda.option.timestep = timestep  # the scene's options win; equal values avoid a conflict notice
     with _quiet_attach():
         frame.attach_body(panda.body("panda_link0"), "", "")
     # the first link turns just above its mount: its hull would only ever graze the support it stands on
     spec.add_exclude(bodyname1="world", bodyname2="panda_link1")
 
 
-def attach_human(spec: mujoco.MjSpec, cfg: WorkcellConfig) -> mujoco.MjModel:
+def attach_human(spec: mujoco.MjSpec, worker: Worker) -> mujoco.MjModel:
     """Add the kinematic human standing at the worker position; return its articulated model.
 
     The articulated model (the 22 canonical joints, placed in the scene's world frame) is what motion capture
@@ -133,9 +133,8 @@ def attach_human(spec: mujoco.MjSpec, cfg: WorkcellConfig) -> mujoco.MjModel:
     kin_spec = mujoco.MjSpec()
     kin_spec.modelname = "human_kinematics"
     kin_spec.compiler.degree = False
-    frame = kin_spec.worldbody.add_frame(name="worker", pos=[*cfg.worker_xy, 0.0],
-                                         quat=yaw_quat(cfg.worker_yaw))
-    human = human_spec(cfg.stature, dict(cfg.human_scale), keyframe=None)
+    frame = kin_spec.worldbody.add_frame(name="worker", pos=[*worker.xy, 0.0], quat=yaw_quat(worker.yaw))
+    human = human_spec(worker.stature, dict(worker.human_scale), keyframe=None)
     with _quiet_attach():
         frame.attach_body(human.body(ROOT_BODY), "", "")
         kin = compile_spec(kin_spec, where="human")
@@ -145,36 +144,16 @@ def attach_human(spec: mujoco.MjSpec, cfg: WorkcellConfig) -> mujoco.MjModel:
     return kin
 
 
-def add_parts(spec: mujoco.MjSpec, cfg: WorkcellConfig) -> None:
-    """J, L, S1, S2 resting on their surfaces (poses from ``cfg.placements()``), plus the J hollow sites."""
-    surfaces = cfg.surfaces()
-    dims = cfg.dims
-    for part, (surface, (x, y), yaw) in cfg.placements().items():
-        pos = [x, y, surfaces[surface].height + rest_height(dims, part)]
-        if part == "J":
-            body = add_corner_joint(spec.worldbody, dims, pos, yaw_quat(yaw))
-            for profile in PROFILES:
-                p, q = hollow_pose(dims, profile, cfg.hollow(profile))
-                body.add_site(name=f"J_hollow_{profile}", pos=p.tolist(), quat=q.tolist(), group=4)
-        else:
-            add_profile(spec.worldbody, dims, part, pos, yaw_quat(yaw))
-    # the profiles slide into J's sleeves: insertion is a weld within tolerance (Workcell.seat), not a
-    # contact simulation of a 0.5 mm fit
-    for profile in PROFILES:
-        spec.add_exclude(bodyname1="J", bodyname2=profile)
-
-
-def add_welds(spec: mujoco.MjSpec, hand_bodies: dict[str, str]) -> None:
-    """Inactive welds holder -> part for every holder in ``hand_bodies`` and J -> profile for seating."""
+def add_welds(spec: mujoco.MjSpec, hand_bodies: dict[str, str], parts, seats) -> None:
+    """Inactive welds holder -> part for every holder in ``hand_bodies`` and every part in ``parts``, then
+    host -> part for every ``(host, part)`` of ``seats`` (a part seated in its slot)."""
+    weld = dict(type=mujoco.mjtEq.mjEQ_WELD, objtype=mujoco.mjtObj.mjOBJ_BODY, active=False,
+                solref=[0.005, 1.0], solimp=[0.99, 0.999, 0.001, 0.5, 2])
     for holder, body in hand_bodies.items():
-        for part in PARTS:
-            spec.add_equality(name=weld_name(holder, part), type=mujoco.mjtEq.mjEQ_WELD, name1=body,
-                              name2=part, objtype=mujoco.mjtObj.mjOBJ_BODY, active=False, solref=[0.005, 1.0],
-                              solimp=[0.99, 0.999, 0.001, 0.5, 2])
-    for profile in PROFILES:
-        spec.add_equality(name=seat_name(profile), type=mujoco.mjtEq.mjEQ_WELD, name1="J", name2=profile,
-                          objtype=mujoco.mjtObj.mjOBJ_BODY, active=False, solref=[0.005, 1.0],
-                              solimp=[0.99, 0.999, 0.001, 0.5, 2])
+        for part in parts:
+            spec.add_equality(name=weld_name(holder, part), name1=body, name2=part, **weld)
+    for host, part in seats:
+        spec.add_equality(name=seat_name(part), name1=host, name2=part, **weld)
 
 
 def human_hand_bodies(spec: mujoco.MjSpec) -> dict[str, str]:
@@ -186,7 +165,7 @@ def human_hand_bodies(spec: mujoco.MjSpec) -> dict[str, str]:
     return out
 
 
-def finish(spec: mujoco.MjSpec, where: str) -> mujoco.MjModel:
+def finish(spec: mujoco.MjSpec, where: str, has_robot: bool = True) -> mujoco.MjModel:
     """Replace attached keyframes by one ``home`` (robot ready, fingers open, parts laid out; the human's
     mocap segments keep their home posture) and compile."""
     for key in list(spec.keys):
@@ -194,13 +173,14 @@ def finish(spec: mujoco.MjSpec, where: str) -> mujoco.MjModel:
     with _quiet_attach():
         model = compile_spec(spec, where=where)
     qpos = model.qpos0.copy()
-    arm = [model.joint(f"panda_joint{i}").qposadr[0] for i in range(1, 8)]
-    qpos[arm] = HOME_QPOS
-    for j in ("panda_finger_joint1", "panda_finger_joint2"):
-        qpos[model.joint(j).qposadr[0]] = model.jnt_range[model.joint(j).id][1]
     ctrl = np.zeros(model.nu)
-    ctrl[:7] = HOME_QPOS
-    ctrl[7] = model.actuator_ctrlrange[7, 1]
+    if has_robot:
+        arm = [model.joint(f"panda_joint{i}").qposadr[0] for i in range(1, 8)]
+        qpos[arm] = HOME_QPOS
+        for j in ("panda_finger_joint1", "panda_finger_joint2"):
+            qpos[model.joint(j).qposadr[0]] = model.jnt_range[model.joint(j).id][1]
+        ctrl[:7] = HOME_QPOS
+        ctrl[7] = model.actuator_ctrlrange[7, 1]
     spec.add_key(name="home", qpos=qpos.tolist(), ctrl=ctrl.tolist())
     with _quiet_attach():
         return compile_spec(spec, where=where)

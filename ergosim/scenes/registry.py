@@ -1,54 +1,81 @@
-"""Scene registry: name -> (default config, builder). Add a scene by registering it here."""
+"""Workcells by name: the bundled cell files, plus any a user registers.
+
+A workcell is a file (docs/workcell_format.md); a name is a short handle on one. ``build_scene(name,
+**overrides)`` reads the file, applies the overrides (dotted paths such as ``parts.L.xy``, or the file's
+aliases such as ``l_xy``), checks it, and compiles it.
+"""
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from typing import Any, NamedTuple
+import os
+from importlib import resources
+from pathlib import Path
+from typing import Any
 
 from ergosim.errors import ConfigError
-from ergosim.scenes import kwear_validation, multi_subject
-from ergosim.scenes.config import WorkcellConfig, with_overrides
+from ergosim.scenes.cellbuild import build_cell
+from ergosim.scenes.cellfile import apply_cell_overrides, parse_cell, read_cell_file
+from ergosim.scenes.cellspec import CellSpec
 from ergosim.scenes.workcell import Workcell
 
-__all__ = ["SceneEntry", "register_scene", "scene_names", "default_config", "build_scene"]
+__all__ = ["register_scene", "scene_names", "scene_path", "cell_document", "load_cell", "default_config",
+           "build_scene"]
+
+_SCENES: dict[str, Path] = {}
 
 
-class SceneEntry(NamedTuple):
-    default_config: Callable[[], WorkcellConfig]
-    build: Callable[[Any], Workcell]
+def register_scene(name: str, path: str | os.PathLike[str]) -> None:
+    """Make the workcell file at ``path`` buildable by ``name``."""
+    _SCENES[name] = Path(path)
 
 
-_SCENES: dict[str, SceneEntry] = {}
-
-
-def register_scene(name: str, default_config: Callable[[], WorkcellConfig],
-                   build: Callable[[Any], Workcell]) -> None:
-    _SCENES[name] = SceneEntry(default_config, build)
-
-
-register_scene(kwear_validation.NAME, kwear_validation.default_config, kwear_validation.build_workcell)
-register_scene(multi_subject.NAME, multi_subject.default_config, multi_subject.build_workcell)
+for _f in sorted(resources.files("ergosim").joinpath("data", "cells").iterdir(), key=lambda f: f.name):
+    if _f.name.endswith(".toml"):
+        register_scene(_f.name.removesuffix(".toml"), Path(str(_f)))
 
 
 def scene_names() -> tuple[str, ...]:
     return tuple(_SCENES)
 
 
-def _entry(name: str) -> SceneEntry:
-    entry = _SCENES.get(name) or _SCENES.get(name.replace("_", "-"))
-    if entry is None:
+def scene_path(name: str) -> Path:
+    """The file of registered workcell ``name`` (``multi_subject`` finds ``multi-subject``)."""
+    path = _SCENES.get(name) or _SCENES.get(name.replace("_", "-"))
+    if path is None:
         raise ConfigError(f"unknown scene {name!r}; valid scenes: {', '.join(_SCENES)}", where="scene")
-    return entry
+    return path
 
 
-def default_config(name: str) -> WorkcellConfig:
-    """The frozen default layout of scene ``name``."""
-    return _entry(name).default_config()
+def _source(path: Path) -> str:
+    """How a file is named in messages: bundled files relative to the package."""
+    text = str(path)
+    marker = os.sep.join(("ergosim", "data", ""))
+    return text[text.index(marker):] if marker in text else text
 
 
-def build_scene(name: str, config: WorkcellConfig | None = None, **overrides: Any) -> Workcell:
-    """Build scene ``name`` from ``config`` (default: its default config) with fields overridden by name."""
-    entry = _entry(name)
-    cfg = config if config is not None else entry.default_config()
-    cfg = with_overrides(cfg, overrides, where=f"scene {name}")
-    return entry.build(cfg)
+def cell_document(name_or_path: str | os.PathLike[str]) -> tuple[dict[str, Any], str]:
+    """The TOML document of a registered workcell or a workcell file, and its name for messages."""
+    path = Path(name_or_path)
+    if str(name_or_path).endswith(".toml") or path.is_file():
+        return read_cell_file(path), str(path)
+    path = scene_path(str(name_or_path))
+    return read_cell_file(path), _source(path)
+
+
+def load_cell(name_or_path: str | os.PathLike[str], **overrides: Any) -> CellSpec:
+    """The checked :class:`CellSpec` of a workcell (name or file) with ``overrides`` applied."""
+    doc, source = cell_document(name_or_path)
+    doc = apply_cell_overrides(doc, overrides, where=f"{source} (overrides)") if overrides else doc
+    return parse_cell(doc, source=source)
+
+
+def default_config(name: str) -> CellSpec:
+    """The workcell ``name`` as its file describes it."""
+    return load_cell(name)
+
+
+def build_scene(name: str | os.PathLike[str], config: CellSpec | None = None, **overrides: Any) -> Workcell:
+    """Build workcell ``name`` (a registered name or a file), or ``config`` when given, with ``overrides``."""
+    if config is not None and not overrides:
+        return build_cell(config)
+    return build_cell(load_cell(name, **overrides))

@@ -7,22 +7,21 @@ import numpy as np
 
 from ergosim.scenes.workcell import Workcell
 
-__all__ = ["VIEWS", "render_workcell"]
-
-VIEWS = {"kwear-validation": (150.0, -25.0), "multi-subject": (300.0, -30.0)}
-"""Default (azimuth, elevation) [deg] per scene: the worker, the robot and the parts all in view."""
+__all__ = ["render_workcell"]
 
 
 def render_workcell(wc: Workcell, width: int = 960, height: int = 720, azimuth: float | None = None,
-                    elevation: float | None = None, distance: float = 2.6,
-                    lookat: tuple[float, float, float] = (0.35, 0.0, 1.0)) -> np.ndarray:
-    """(height, width, 3) uint8 RGB image of the current state of ``wc`` from a free camera."""
-    az, el = VIEWS.get(wc.name, (215.0, -28.0))
+                    elevation: float | None = None, distance: float | None = None,
+                    lookat: tuple[float, float, float] | None = None, view: str | None = None) -> np.ndarray:
+    """(height, width, 3) uint8 RGB image of the current state of ``wc`` from a free camera: the cell's
+    ``view`` (its first view by default), with any of azimuth, elevation [deg], distance [m] and lookat (3,)
+    [m] given here winning."""
+    v = wc.config.view(view)
     cam = mujoco.MjvCamera()
-    cam.azimuth = az if azimuth is None else azimuth
-    cam.elevation = el if elevation is None else elevation
-    cam.distance = distance
-    cam.lookat[:] = lookat
+    cam.azimuth = v.azimuth if azimuth is None else azimuth
+    cam.elevation = v.elevation if elevation is None else elevation
+    cam.distance = v.distance if distance is None else distance
+    cam.lookat[:] = v.lookat if lookat is None else lookat
     opt = mujoco.MjvOption()
     with mujoco.Renderer(wc.model, height=height, width=width) as renderer:
         renderer.update_scene(wc.data, camera=cam, scene_option=opt)

@@ -16,8 +16,8 @@ import numpy as np
 from ergosim.errors import ConfigError
 from ergosim.human.mocap import MocapHuman
 from ergosim.scenes.build import HOLDERS, seat_name, weld_name
-from ergosim.scenes.config import WorkcellConfig
-from ergosim.scenes.parts import PART_COLLISION, PARTS, PROFILES
+from ergosim.scenes.cellspec import CellSpec
+from ergosim.scenes.shapes import PART_COLLISION
 
 __all__ = ["ActionGeometry", "SeatResult", "Workcell"]
 
@@ -26,15 +26,22 @@ __all__ = ["ActionGeometry", "SeatResult", "Workcell"]
 class ActionGeometry:
     """Where action ``action`` takes ``part``: the origin of ``part`` ends on site ``target``.
 
-    ``kind``: place | insert | remove. ``handover``: the site where the robot hands the part to the worker
-    (multi-subject scene), else None (the robot places it itself).
+    ``kind``: place | insert | fasten | remove (see :data:`~ergosim.scenes.cellspec.ACTION_KINDS`).
+    ``handover``: the site where a robot hands the part to the worker, else None (the robot finishes the
+    action itself). ``turn_time`` [s]: how long a fastener is held and turned once seated.
     """
 
     action: str
     part: str
-    kind: Literal["place", "insert", "remove"]
+    kind: Literal["place", "insert", "fasten", "remove"]
     target: str
     handover: str | None = None
+    turn_time: float = 0.0
+
+    @property
+    def seats(self) -> bool:
+        """The action ends with the part seated in a slot (insert, fasten)."""
+        return self.kind in ("insert", "fasten")
 
     @property
     def target_site(self) -> str:
@@ -61,30 +68,37 @@ def _quat_angle_deg(q: np.ndarray) -> float:
 
 
 class Workcell:
-    """One scene instance. ``hand_bodies``: holder name -> body that holds (``panda_hand``, human hands).
+    """One scene instance built from ``spec`` (:class:`~ergosim.scenes.cellspec.CellSpec`, also
+    :attr:`config`). ``hand_bodies``: holder name -> body that holds (``panda_hand``, human hands).
 
     ``human``: the articulated human model returned by :func:`~ergosim.scenes.build.attach_human`; the scene's
     mocap human is then driven through :attr:`human` (a :class:`~ergosim.human.mocap.MocapHuman`).
     """
 
-    def __init__(self, name: str, model: mujoco.MjModel, config: WorkcellConfig,
-                 actions: dict[str, ActionGeometry], hand_bodies: dict[str, str],
-                 human: mujoco.MjModel | None = None) -> None:
-        self.name = name
+    def __init__(self, spec: CellSpec, model: mujoco.MjModel, actions: dict[str, ActionGeometry],
+                 hand_bodies: dict[str, str], human: mujoco.MjModel | None = None) -> None:
+        self.name = spec.name
         self.model = model
         self.data = mujoco.MjData(model)
-        self.config = config
+        self.config = spec
         self.actions = dict(actions)
         self.hand_bodies = dict(hand_bodies)
         self.human = MocapHuman(model, human) if human is not None else None
         self.home_key = model.keyframe("home").id
-        self._body = {p: model.body(p).id for p in PARTS}
+        self.parts = tuple(p.name for p in spec.parts)
+        self.robots = tuple(r.name for r in spec.robots)
+        self._grip = {p.name: p.grip_width for p in spec.parts}
+        self._body = {p: model.body(p).id for p in self.parts}
         self._hand = {h: model.body(b).id for h, b in hand_bodies.items()}
-        self._weld = {(h, p): model.equality(weld_name(h, p)).id for h in hand_bodies for p in PARTS}
-        self._seat = {p: model.equality(seat_name(p)).id for p in PROFILES}
-        self._hollow = {p: model.site(f"J_hollow_{p}").id for p in PROFILES}
+        self._weld = {(h, p): model.equality(weld_name(h, p)).id for h in hand_bodies for p in self.parts}
+        seated = [(spec.slots()[a.target], a.part) for a in spec.actions if a.kind in ("insert", "fasten")]
+        self._host = {p: slot.host for slot, p in seated}
+        self._upright = {p: tuple(slot.axis) == (0.0, 0.0, 1.0) for slot, p in seated}
+        self._seat = {p: model.equality(seat_name(p)).id for _, p in seated}
+        self._hollow = {p: model.site(g.target).id for g in self.actions.values() if g.seats
+                        for p in (g.part,)}
         self._collision_geoms = {p: np.flatnonzero((model.geom_bodyid == self._body[p])
-                                                   & (model.geom_contype != 0)) for p in PARTS}
+                                                   & (model.geom_contype != 0)) for p in self.parts}
         self._all_collision_geoms = np.concatenate(list(self._collision_geoms.values()))
         self.reset()
 
@@ -116,7 +130,7 @@ class Workcell:
         for eq in (*self._weld.values(), *self._seat.values()):
             self.data.eq_active[eq] = 0
         self.pass_through(self._all_collision_geoms, False)
-        for part in PARTS:
+        for part in self.parts:
             jnt = self.model.body_jntadr[self._body[part]]
             qa, va = self.model.jnt_qposadr[jnt], self.model.jnt_dofadr[jnt]
             self.data.qpos[qa:qa + 7] = key_qpos[qa:qa + 7]
@@ -129,7 +143,7 @@ class Workcell:
         if holder not in self._hand:
             raise ConfigError(f"unknown holder {holder!r}; holders: {', '.join(self._hand)}", where=self.name)
         if part not in self._body:
-            raise ConfigError(f"unknown part {part!r}; parts: {', '.join(PARTS)}", where=self.name)
+            raise ConfigError(f"unknown part {part!r}; parts: {', '.join(self.parts)}", where=self.name)
 
     def _wake(self, *bodies: int) -> None:
         """Wake the free parts among ``bodies``. MuJoCo's sleeping (enabled in the scenes) is velocity-based,
@@ -174,10 +188,19 @@ class Workcell:
         self._wake(self._hand[holder], self._body[part])
 
     def assembly(self, part: str) -> list[str]:
-        """``part`` and the parts welded to it by seats (J and its seated profiles move as one)."""
-        if part == "J" or (part in PROFILES and self.is_seated(part)):
-            return ["J", *(p for p in PROFILES if self.is_seated(p))]
-        return [part]
+        """The parts welded to ``part`` by seats, root first (a host and its seated parts move as one)."""
+        root = part
+        while root in self._host and self.is_seated(root):
+            root = self._host[root]
+        out = [root]
+        grew = True
+        while grew:
+            grew = False
+            for p, host in self._host.items():
+                if p not in out and host in out and self.is_seated(p):
+                    out.append(p)
+                    grew = True
+        return out
 
     def _robot_contacts(self, part: str, on: bool) -> None:
         """Switch the robot bit of the collision affinity of ``part``'s assembly. Geoms switched off
@@ -212,19 +235,22 @@ class Workcell:
         return bool(self.data.eq_active[self._weld[holder, part]])
 
     # -- assembly -------------------------------------------------------------------------------------------
-    def seat_error(self, profile: str) -> tuple[float, float]:
-        """Distance [m] and angle [deg] between ``profile`` and its seated pose in J."""
-        pos, quat = self.body_pose(profile)
-        spos, squat = self.site_pose(f"J_hollow_{profile}")
+    def seat_error(self, part: str) -> tuple[float, float]:
+        """Distance [m] and angle [deg] between ``part`` and its seated pose in its slot."""
+        pos, quat = self.body_pose(part)
+        i = self._hollow[part]
+        spos = self.data.site_xpos[i].copy()
+        squat = np.empty(4)
+        mujoco.mju_mat2Quat(squat, self.data.site_xmat[i])
         dq = np.empty(4)
         mujoco.mju_mulQuat(dq, _quat_conj(squat), quat)
         return float(np.linalg.norm(pos - spos)), _quat_angle_deg(dq)
 
     def seat(self, profile: str) -> SeatResult:
-        """Weld ``profile`` to J at its exact seated pose if it is within the seat tolerances."""
-        if profile not in PROFILES:
-            raise ConfigError(f"only profiles are seated, got {profile!r}; profiles: {', '.join(PROFILES)}",
-                              where=self.name)
+        """Weld ``profile`` to its slot's host at its exact seated pose if within the seat tolerances."""
+        if profile not in self._seat:
+            raise ConfigError(f"only parts with a slot are seated, got {profile!r}; they are: "
+                              f"{', '.join(self._seat)}", where=self.name)
         dist, angle = self.seat_error(profile)
         ok = dist <= self.config.seat_tolerance and angle <= self.config.seat_tolerance_deg
         if ok:
@@ -234,7 +260,7 @@ class Workcell:
             self.model.eq_data[eq, 3:6] = self.model.site_pos[hollow]
             self.model.eq_data[eq, 6:10] = self.model.site_quat[hollow]
             self.data.eq_active[eq] = 1
-            self._wake(self._body["J"], self._body[profile])
+            self._wake(self._body[self._host[profile]], self._body[profile])
         return SeatResult(ok, dist, angle)
 
     def is_seated(self, profile: str) -> bool:
@@ -242,17 +268,26 @@ class Workcell:
 
     def unseat(self, profile: str) -> None:
         self.data.eq_active[self._seat[profile]] = 0
-        self._wake(self._body["J"], self._body[profile])
+        self._wake(self._body[self._host[profile]], self._body[profile])
 
     def grasp_site(self, part: str) -> str:
-        """Site the robot's TCP goes to for a top-down grasp of ``part``: J by its upright sleeve, or, once a
-        profile stands in J's upper (z) hollow, that profile near its top end (the whole assembly)."""
-        if part == "J":
-            for p in PROFILES:
-                if self.config.hollow(p) == "z" and self.is_seated(p):
-                    return f"{p}_grasp_end"
-            return "J_grasp"
+        """Site the robot's TCP goes to for a top-down grasp of ``part``: its own grasp site, or, once a part
+        stands seated in an upward slot of it (covering its top), that part near its top end (the whole
+        assembly is taken by what sticks up out of it)."""
+        for p, host in self._host.items():
+            if host == part and self._upright[p] and self.is_seated(p):
+                end = f"{p}_grasp_end"
+                if mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_SITE, end) >= 0:
+                    return end
         return f"{part}_grasp"
+
+    def grip_width(self, body: str) -> float:
+        """Width [m] across the fingers of a top-down grasp of part ``body``."""
+        return self._grip[body]
+
+    def is_seat_part(self, part: str) -> bool:
+        """``part`` has a slot it is inserted into."""
+        return part in self._seat
 
     def grasp_body(self, part: str) -> str:
         """The body that carries :meth:`grasp_site` (the one to weld to the hand)."""

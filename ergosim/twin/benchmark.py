@@ -7,7 +7,6 @@ same compiled workcell with ``mj_step`` only, for the same simulated time and ti
 
 from __future__ import annotations
 
-import dataclasses
 import statistics
 import tempfile
 import time
@@ -18,7 +17,7 @@ import numpy as np
 
 from ergosim.twin.recording import record_run
 from ergosim.twin.runner import _calibrate, build_rig, make_allocator
-from ergosim.twin.scenario import scenario_config
+from ergosim.twin.scenariofile import load_scenario
 from ergosim.twin.session import Session
 from ergosim.viz import open_recording
 from ergosim.worker.subjects import make_subjects
@@ -30,20 +29,21 @@ def bench_repetition(scenario: str = "multi-subject", mode: str = "hrc", seed: i
                      record: bool = False, scene_overrides: dict | None = None, repetitions: int = 1) -> dict:
     """Time ``repetitions`` repetitions of one subject (after calibration, which is not timed). Returns wall
     [s], simulated time [s], and the raw mj_step wall for the same simulated time."""
-    cfg = dataclasses.replace(scenario_config(scenario), repetitions=repetitions, modes=(mode,))
+    sc = load_scenario(scenario, {f"scene.{k}": v for k, v in (scene_overrides or {}).items()})
+    sc = sc.with_overrides({"repetitions": str(repetitions), "modes": mode})
+    cfg = sc.protocol
     subject = make_subjects(1, seed)[0]
-    overrides = dict(scene_overrides or {})
-    calibration, _ = _calibrate(cfg, subject, np.random.default_rng([seed, 1]), overrides)
+    calibration, _ = _calibrate(sc, subject, np.random.default_rng([seed, 1]))
     rng = np.random.default_rng([seed, 2])
-    rig = build_rig(cfg, subject, rng, overrides, record_bodies=record, alphas=calibration.alphas)
+    rig = build_rig(sc, subject, rng, record_bodies=record, alphas=calibration.alphas)
     session = Session(cfg=cfg, mode=mode, subject_index=0, worker=rig.worker, plant=rig.plant,
-                      robot=rig.robot, allocator=make_allocator(cfg, mode, rig, calibration), rng=rng)
+                      robot=rig.robot, allocator=make_allocator(sc, mode, rig, calibration), rng=rng)
     t0 = time.perf_counter()
     run = session.run(repetitions)
     if record:
         with tempfile.TemporaryDirectory() as tmp:
             rec = open_recording(rrd=Path(tmp) / "bench.rrd")
-            record_run(rec, rig.cell.model, run, cfg.v_th)
+            record_run(rec, rig.cell.model, run, cfg.v_th, rig.cell.parts)
             rec.close()
     wall = time.perf_counter() - t0
     sim = rig.plant.time
@@ -91,10 +91,9 @@ def bench_full(scenario: str = "multi-subject", jobs: int = 2, seed: int = 0) ->
     """Wall time of the whole scenario (e.g. 12 subjects x 10 repetitions x 2 modes), ``jobs`` processes."""
     from ergosim.twin.scenario_run import run_scenario  # noqa: PLC0415
 
-    cfg = scenario_config(scenario)
     with tempfile.TemporaryDirectory() as tmp:
         t0 = time.perf_counter()
-        res = run_scenario(scenario, cfg, seed=seed, out=Path(tmp), jobs=jobs, progress=False)
+        res = run_scenario(load_scenario(scenario), seed=seed, out=Path(tmp), jobs=jobs, progress=False)
         wall = time.perf_counter() - t0
     modes = res.summary["modes"]
     return {"scenario": scenario, "jobs": jobs, "wall_s": wall,

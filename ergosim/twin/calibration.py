@@ -72,7 +72,7 @@ class SceneCalibration:
             executions[action] = Execution(seg.g[ticks], self.dt_tick, seg.grand[ticks])
             pos, quat = cell.site_pose(geom.target)
             put_part(cell, geom.part, pos, quat)
-            if geom.kind == "insert":
+            if geom.seats:
                 cell.seat(geom.part)
         cell.reset_parts()
         self.passes.append(executions)
@@ -83,13 +83,15 @@ class SceneCalibration:
         return self.passes[l][action]
 
     @classmethod
-    def for_subject(cls, scene: str, subject: Subject, rng: np.random.Generator, *, mocap_rate: float,
+    def for_subject(cls, scene, subject: Subject, rng: np.random.Generator, *, mocap_rate: float,
                     ergonomics_rate: float, actions: Sequence[str] | None = None, dropout_rate: float = 0.0,
                     noise: bool = True, scene_overrides: Mapping[str, Any] | None = None) -> SceneCalibration:
-        """The recorder for ``subject`` in workcell ``scene``, built for the subject's body (as the twin
-        builds it; ``scene_overrides`` win), its mocap stream drawing from ``rng``. ``actions``: the order of
-        a pass (default: the scene's)."""
-        cell = build_scene(scene, **{**subject.workcell_fields, **dict(scene_overrides or {})})
+        """The recorder for ``subject`` in workcell ``scene`` (a name or file, built for the subject's body as
+        the twin builds it, ``scene_overrides`` winning; or an already built :class:`Workcell`), its mocap
+        stream drawing from ``rng``. ``actions``: the order of a pass (default: the scene's)."""
+        if isinstance(scene, str | os.PathLike):
+            scene = build_scene(scene, **{**subject.workcell_fields, **dict(scene_overrides or {})})
+        cell = scene
         track = WorkerTrack.for_subject(subject, rng, rate=mocap_rate, dropout_rate=dropout_rate, noise=noise)
         tick_every = int(round(mocap_rate / ergonomics_rate))
         return cls(tuple(cell.actions) if actions is None else actions, cell, track, rng, tick_every,

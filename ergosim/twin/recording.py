@@ -9,7 +9,6 @@ from __future__ import annotations
 import numpy as np
 
 from ergosim.posture import KWEAR_JOINTS
-from ergosim.scenes.parts import PARTS
 from ergosim.twin.records import TICK_COLUMNS, SubjectRun
 from ergosim.viz import TwinRecorder, default_body_groups
 
@@ -20,12 +19,12 @@ _RULA = slice(TICK_COLUMNS.index("rula_upper_arm"), TICK_COLUMNS.index("rula_leg
 _GRAND = TICK_COLUMNS.index("rula_grand")
 
 
-def record_run(recorder: TwinRecorder, model, run: SubjectRun, v_th: float) -> None:
-    """Log ``run`` (which must carry ``bodies``) with the workcell ``model`` it ran in."""
+def record_run(recorder: TwinRecorder, model, run: SubjectRun, v_th: float, parts: tuple[str, ...]) -> None:
+    """Log ``run`` (which must carry ``bodies``) with the workcell ``model`` it ran in (its ``parts``)."""
     if not recorder.enabled or run.bodies is None:
         return
     recorder.log_static(model, v_th=np.full(len(KWEAR_JOINTS), v_th),
-                        body_groups=default_body_groups(model, PARTS))
+                        body_groups=default_body_groups(model, parts))
     names = tuple(model.body(b).name for b in range(model.nbody))
     rows, (pos, quat) = run.ticks.rows, run.bodies
     for rep in np.unique(rows[:, 0]).astype(int):

@@ -62,12 +62,14 @@ class RobotTrack:
             return
         pos, quat = cell.site_pose(geom.target)
         approach = None
-        if geom.kind == "insert":
+        if geom.seats:
             rot = np.empty(9)
             mujoco.mju_quat2Mat(rot, quat)
-            approach = rot.reshape(3, 3)[:, 0]  # the profile slides in along its hollow's axis
-        self.skill = PickPlace(cell, geom.part, pos, quat, approach=approach, seat=geom.kind == "insert",
-                               kin=self.kin, params=self.params)
+            # the part slides in along its slot's axis: the seat site's axis that the part's insert axis takes
+            axis = "xyz".index(cell.config.part(geom.part).insert_axis)
+            approach = rot.reshape(3, 3)[:, axis]
+        self.skill = PickPlace(cell, geom.part, pos, quat, approach=approach, seat=geom.seats,
+                               hold=geom.turn_time, kin=self.kin, params=self.params)
 
     def _taken(self, part: str):
         def taken(wc) -> bool:

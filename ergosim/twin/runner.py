@@ -7,28 +7,26 @@ i comes from ``SeedSequence([seed, i])``, so a parallel run equals the serial ru
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Mapping
 
 import numpy as np
 
-from ergosim.ergonomics.cost import CostParams, rula_baseline_params
 from ergosim.ergonomics.kwear import kwear_trajectory
-from ergosim.ergonomics.risk_index import KWearIndex, StaticRulaIndex
-from ergosim.planner import corner_joint_task
+from ergosim.ergonomics.risk_index import KWearIndex
 from ergosim.posture import KWEAR_JOINTS
-from ergosim.scenes import build_scene
+from ergosim.scenes import Workcell, build_cell
 from ergosim.twin.allocator import Allocator
 from ergosim.twin.calibration import SceneCalibration
 from ergosim.twin.loop import Plant
+from ergosim.twin.modes import IndexContext, get_mode, get_risk_index
 from ergosim.twin.records import SubjectRun
 from ergosim.twin.robot_track import RobotTrack
-from ergosim.twin.scenario import ScenarioConfig
+from ergosim.twin.scenariofile import Scenario
 from ergosim.twin.session import Session
 from ergosim.twin.worker_track import WorkerTrack
 from ergosim.worker.motion import Worker
 from ergosim.worker.subjects import Subject, make_subjects
 
-__all__ = ["SubjectResult", "Rig", "build_rig", "run_subject"]
+__all__ = ["SubjectResult", "Rig", "subject_cell", "build_rig", "make_allocator", "run_subject"]
 
 
 @dataclasses.dataclass
@@ -48,38 +46,49 @@ class SubjectResult:
 
 @dataclasses.dataclass
 class Rig:
-    """Everything physical for one subject: workcell, plant, worker, robot."""
+    """Everything physical for one subject: workcell, plant, worker, robot (None in a cell without one)."""
 
-    cell: object
+    cell: Workcell
     plant: Plant
     worker: Worker
-    robot: RobotTrack
+    robot: RobotTrack | None
     graph: object
 
 
-def build_rig(cfg: ScenarioConfig, subject: Subject, rng: np.random.Generator,
-              scene_overrides: Mapping[str, str], record_bodies: bool = False,
-              alphas: Mapping[str, np.ndarray] | None = None) -> Rig:
-    cell = build_scene(cfg.scene, **{**subject.workcell_fields, **dict(scene_overrides)})
+def subject_cell(scenario: Scenario, subject: Subject) -> Workcell:
+    """The scenario's workcell built for ``subject``'s body (the scenario's own overrides win)."""
+    return build_cell(scenario.cell(**subject.workcell_fields))
+
+
+def _subject_in(cell: Workcell, subject: Subject) -> Subject:
+    """The subject acting with the workcell worker's dominant hand."""
+    hand = cell.config.worker.hand
+    return subject if subject.handedness == hand else dataclasses.replace(subject, handedness=hand)
+
+
+def build_rig(scenario: Scenario, subject: Subject, rng: np.random.Generator, record_bodies: bool = False,
+              alphas=None) -> Rig:
+    cfg = scenario.protocol
+    cell = subject_cell(scenario, subject)
+    subject = _subject_in(cell, subject)
     track = WorkerTrack.for_subject(subject, rng, rate=cfg.mocap_rate, dropout_rate=cfg.dropout_rate,
                                     noise=cfg.noise_scale > 0)
-    worker = track.worker
     kwear = KWearIndex(subject.kwear_params(), alphas or {}, online_weight=cfg.online_alpha_weight)
     plant = Plant(cell, track, kwear, mocap_rate=cfg.mocap_rate,
                   ergonomics_rate=cfg.ergonomics_rate, physics_dt=cfg.physics_dt, record_bodies=record_bodies)
-    robot = RobotTrack(cell, ee_speed=cfg.ee_speed)
+    robot = RobotTrack(cell, ee_speed=cfg.ee_speed) if cell.robots else None
     plant.robot = robot
-    return Rig(cell, plant, worker, robot, corner_joint_task(cfg.task))
+    return Rig(cell, plant, track.worker, robot, scenario.task())
 
 
-def _calibrate(cfg: ScenarioConfig, subject: Subject, rng: np.random.Generator,
-               scene_overrides: Mapping[str, str]):
+def _calibrate(scenario: Scenario, subject: Subject, rng: np.random.Generator):
     """Calibrate ``subject`` in the scenario's workcell; also return the first pass's KWear traces."""
-    cal = SceneCalibration.for_subject(cfg.scene, subject, rng, mocap_rate=cfg.mocap_rate,
-                                       ergonomics_rate=cfg.ergonomics_rate,
-                                       actions=corner_joint_task(cfg.task).actions,
-                                       dropout_rate=cfg.dropout_rate, noise=cfg.noise_scale > 0,
-                                       scene_overrides=scene_overrides)
+    cfg = scenario.protocol
+    cell = subject_cell(scenario, subject)
+    subject = _subject_in(cell, subject)
+    cal = SceneCalibration.for_subject(cell, subject, rng, mocap_rate=cfg.mocap_rate,
+                                       ergonomics_rate=cfg.ergonomics_rate, actions=scenario.task().actions,
+                                       dropout_rate=cfg.dropout_rate, noise=cfg.noise_scale > 0)
     params = subject.kwear_params()
     result = cal.run(params, eta0=cfg.eta0, eta_max=cfg.eta_max, v_des=cfg.v_des)
     traces = {}
@@ -89,36 +98,30 @@ def _calibrate(cfg: ScenarioConfig, subject: Subject, rng: np.random.Generator,
     return result, traces
 
 
-def make_allocator(cfg: ScenarioConfig, mode: str, rig: Rig, calibration) -> Allocator:
-    """KWear (hrc) or static RULA (rula) costs; single-agent modes need no index."""
-    if mode == "hrc":
-        index = rig.plant.kwear
-        cost = CostParams(gamma=cfg.gamma, v_th=cfg.v_th, robot_cost=cfg.robot_cost,
-                          v_max=rig.plant.kwear.params.v_max)
-    elif mode == "rula":
-        index = StaticRulaIndex(calibration.rula_scores, g_max=cfg.rula_g_max)
-        cost = rula_baseline_params(cfg.robot_cost, cfg.gamma, g_th=cfg.rula_threshold, g_max=cfg.rula_g_max)
-    else:
-        index, cost = None, None
+def make_allocator(scenario: Scenario, mode_name: str, rig: Rig, calibration) -> Allocator:
+    """The mode's risk index and cost rule (none for modes without one) on the rig's task graph."""
+    cfg = scenario.protocol
+    mode = get_mode(mode_name)
+    index = cost = None
+    if mode.risk_index is not None:
+        index, cost = get_risk_index(mode.risk_index).build(IndexContext(cfg, rig.plant.kwear, calibration))
     return Allocator(rig.graph, mode, index=index, cost=cost, planner=cfg.planner)
 
 
-def run_subject(cfg: ScenarioConfig, index: int, seed: int, modes: tuple[str, ...],
-                scene_overrides: Mapping[str, str] | None = None,
+def run_subject(scenario: Scenario, index: int, seed: int, modes: tuple[str, ...],
                 record_mode: str | None = None) -> SubjectResult:
     """Calibrate subject ``index`` of ``seed``'s population, then run each mode from zero wear.
 
     ``record_mode``: keep body poses per tick for that mode's run (for the rerun recording)."""
-    scene_overrides = dict(scene_overrides or {})
+    cfg = scenario.protocol
     subject = make_subjects(index + 1, seed)[index]
     seqs = np.random.SeedSequence([seed, index]).spawn(1 + len(modes))
-    calibration, traces = _calibrate(cfg, subject, np.random.default_rng(seqs[0]), scene_overrides)
+    calibration, traces = _calibrate(scenario, subject, np.random.default_rng(seqs[0]))
     runs: dict[str, SubjectRun] = {}
     for mode, seq in zip(modes, seqs[1:], strict=True):
         rng = np.random.default_rng(seq)
-        rig = build_rig(cfg, subject, rng, scene_overrides, record_bodies=mode == record_mode,
-                        alphas=calibration.alphas)
-        allocator = make_allocator(cfg, mode, rig, calibration)
+        rig = build_rig(scenario, subject, rng, record_bodies=mode == record_mode, alphas=calibration.alphas)
+        allocator = make_allocator(scenario, mode, rig, calibration)
         session = Session(cfg=cfg, mode=mode, subject_index=index, worker=rig.worker, plant=rig.plant,
                           robot=rig.robot, allocator=allocator, rng=rng)
         runs[mode] = session.run(cfg.repetitions)

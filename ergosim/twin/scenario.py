@@ -1,8 +1,12 @@
-"""The paper's two experiments (§7) as scenario configurations.
+"""Scenarios: a task, a workcell and a protocol, read from a scenario file (docs/workcell_format.md).
 
-A scenario is data: a frozen :class:`ScenarioConfig` per name, overridable by name from the CLI
-(``--set takt=40``); keys prefixed ``scene.`` are forwarded to the workcell's own config
-(``--set scene.shelf_height=1.9``).
+A scenario file names its task (a bundled task, a task file, or an inline ``[task]`` table), its workcell
+(a bundled workcell, a workcell file, or an inline ``[workcell]`` table) and its ``[protocol]``: subjects,
+repetitions, takt, modes, the cost parameters, rates, planner and calibration settings (the fields of
+:class:`ScenarioConfig`). The paper's two experiments are bundled scenario files, run by name; any other
+runs by path. Overrides (``--set``) address a protocol field by name (``takt=40``, or ``protocol.takt``)
+and a workcell field by ``scene.`` or ``workcell.`` and its dotted path or alias (``scene.l_xy=0.2,0.8``,
+``workcell.parts.L.yaw=0``).
 """
 
 from __future__ import annotations
@@ -11,16 +15,15 @@ import dataclasses
 from typing import Literal
 
 from ergosim.errors import ConfigError
+from ergosim.twin.modes import mode_names
 
-__all__ = ["MODES", "ScenarioConfig", "scenario_names", "scenario_config"]
-
-MODES = ("hrc", "rula", "h-only", "r-only")
-"""hrc: KWear-driven allocation; rula: static RULA baseline; h-only / r-only: single-agent baselines."""
+__all__ = ["ScenarioConfig"]
 
 
 @dataclasses.dataclass(frozen=True)
 class ScenarioConfig:
-    """Parameters of one scenario run. Times in seconds, rates in Hz, costs dimensionless."""
+    """The protocol of one scenario. Times in seconds, rates in Hz, costs dimensionless. ``scene`` and
+    ``task`` are labels (the workcell's name, the task file's name) for the outputs."""
 
     scene: str
     task: str
@@ -62,8 +65,8 @@ class ScenarioConfig:
         need(self.subjects >= 1, f"subjects must be >= 1, got {self.subjects}")
         need(self.repetitions >= 1, f"repetitions must be >= 1, got {self.repetitions}")
         need(self.takt > 0, f"takt must be > 0 s, got {self.takt}")
-        need(all(m in MODES for m in self.modes) and len(self.modes) > 0,
-             f"modes must be among {', '.join(MODES)}, got {','.join(self.modes)}")
+        need(all(m in mode_names() for m in self.modes) and len(self.modes) > 0,
+             f"modes must be among {', '.join(mode_names())}, got {','.join(self.modes)}")
         need(self.robot_cost > 0, f"robot_cost must be > 0, got {self.robot_cost}")
         need(self.gamma > 0, f"gamma must be > 0, got {self.gamma}")
         need(0 < self.v_th < 1, f"v_th must be in (0, 1), got {self.v_th}")
@@ -86,30 +89,3 @@ class ScenarioConfig:
     def rula_threshold(self) -> float:
         """G_th = fraction × G_max (7.2 with the paper's values)."""
         return self.rula_threshold_fraction * self.rula_g_max
-
-
-_SCENARIOS: dict[str, ScenarioConfig] = {
-    # §7.1: one subject, 4 repetitions of the fixed sequence a1..a5 at the shelf workcell.
-    "kwear-validation": ScenarioConfig(
-        scene="kwear-validation", task="kwear-validation", subjects=1, repetitions=4,
-        modes=("hrc", "rula"), robot_cost=50.0, gamma=100.0, v_th=0.8, fixed_sequence=True,
-    ),
-    # §7.2: 12 subjects, 10 repetitions each in HRC and H-only, a2-a4 in any order, a5 human only.
-    "multi-subject": ScenarioConfig(
-        scene="multi-subject", task="multi-subject", subjects=12, repetitions=10,
-        modes=("hrc", "h-only"), robot_cost=2.5, gamma=100.0, v_th=0.8,
-    ),
-}
-
-
-def scenario_names() -> tuple[str, ...]:
-    return tuple(_SCENARIOS)
-
-
-def scenario_config(name: str) -> ScenarioConfig:
-    try:
-        return _SCENARIOS[name]
-    except KeyError:
-        raise ConfigError(
-            f"unknown scenario {name!r}; valid scenarios: {', '.join(_SCENARIOS)}", where="ergosim run"
-        ) from None

@@ -12,16 +12,15 @@ import concurrent.futures as cf
 import multiprocessing
 import os
 import time
-from collections.abc import Mapping
 from pathlib import Path
 
-from ergosim.scenes import build_scene
 from ergosim.twin.plots import write_plots
 from ergosim.twin.progress import Progress
 from ergosim.twin.recording import record_run
 from ergosim.twin.report import summarise, write_allocations, write_summary, write_ticks
-from ergosim.twin.runner import SubjectResult, run_subject
+from ergosim.twin.runner import SubjectResult, run_subject, subject_cell
 from ergosim.twin.scenario import ScenarioConfig
+from ergosim.twin.scenariofile import Scenario
 from ergosim.worker.subjects import make_subjects
 
 __all__ = ["run_scenario", "ScenarioResult"]
@@ -38,8 +37,8 @@ class ScenarioResult:
 
 
 def _job(args) -> SubjectResult:
-    cfg, index, seed, modes, overrides, record_mode = args
-    return run_subject(cfg, index, seed, modes, overrides, record_mode=record_mode)
+    scenario, index, seed, modes, record_mode = args
+    return run_subject(scenario, index, seed, modes, record_mode=record_mode)
 
 
 def _write(out: Path, name: str, seed: int, cfg: ScenarioConfig, results: list[SubjectResult],
@@ -72,19 +71,19 @@ def _actions(results: list[SubjectResult]) -> list[str]:
     return []
 
 
-def run_scenario(name: str, cfg: ScenarioConfig, *, seed: int, out: Path, jobs: int | None = None,
-                 scene_overrides: Mapping[str, str] | None = None, progress: bool = True,
+def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None = None, progress: bool = True,
                  recorder=None) -> ScenarioResult:
-    """Run ``cfg`` for ``cfg.subjects`` subjects and write summary.json, allocations.csv, ticks.csv, PNGs.
+    """Run ``scenario`` for its subjects and write summary.json, allocations.csv, ticks.csv, PNGs.
 
     ``recorder`` (an enabled :class:`~ergosim.viz.TwinRecorder`): the first subject's run in the first mode
     is logged to it (3-D workcell, joint angles, RULA, KWear, decisions) once the run is over.
     """
+    name, cfg = scenario.name, scenario.protocol
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     jobs = max(1, min(jobs or os.cpu_count() or 1, cfg.subjects))
     record_mode = cfg.modes[0] if recorder is not None and recorder.enabled else None
-    args = [(cfg, i, seed, tuple(cfg.modes), dict(scene_overrides or {}), record_mode if i == 0 else None)
+    args = [(scenario, i, seed, tuple(cfg.modes), record_mode if i == 0 else None)
             for i in range(cfg.subjects)]
     bar = Progress(cfg.subjects, f"{name}: subjects", enabled=progress)
     results: list[SubjectResult] = []
@@ -116,7 +115,6 @@ def run_scenario(name: str, cfg: ScenarioConfig, *, seed: int, out: Path, jobs: 
     results.sort(key=lambda r: r.subject)
     if record_mode is not None and results and results[0].subject == 0:
         first = results[0]
-        subject = make_subjects(1, seed)[0]
-        cell = build_scene(cfg.scene, **{"stature": subject.stature, **dict(scene_overrides or {})})
-        record_run(recorder, cell.model, first.runs[record_mode], cfg.v_th)
+        cell = subject_cell(scenario, make_subjects(1, seed)[0])
+        record_run(recorder, cell.model, first.runs[record_mode], cfg.v_th, cell.parts)
     return ScenarioResult(results, summary, out, time.monotonic() - start)

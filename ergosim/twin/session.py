@@ -16,6 +16,7 @@ from ergosim.scenes.build import weld_name
 from ergosim.twin.allocator import Allocator, Decision
 from ergosim.twin.in_hand import InHandTurn, relative_pose
 from ergosim.twin.loop import Plant
+from ergosim.twin.modes import get_mode
 from ergosim.twin.records import Allocation, SubjectRun
 from ergosim.worker.motion import Worker
 
@@ -24,7 +25,6 @@ __all__ = ["Session"]
 # Time allowed to any single action before it counts as failed [s of simulated time]; the slowest robot
 # action at 0.05 m/s takes about 30 s, the slowest human action about 8 s.
 _ACTION_TIMEOUT = 180.0
-_PLACE_TOLERANCE = 0.03  # m, a placed part's origin within this distance of its target site
 # The worker retries a failed action from wherever the part now lies; after this many failures of one action
 # in one repetition the worker's hyper-arc is pruned as well (the action is beyond what the worker can do).
 _HUMAN_ATTEMPTS = 3
@@ -59,13 +59,13 @@ class Session:
 
     # -- completion, detected in the scene -----------------------------------------------------------------
     def completed(self, geom) -> bool:
-        if geom.kind == "insert":
+        if geom.seats:
             return self.cell.is_seated(geom.part)
         if self.cell.holder_of(geom.part) is not None:
             return False
         pos, _ = self.cell.body_pose(geom.part)
         target, _ = self.cell.site_pose(geom.target)
-        return float(np.linalg.norm(pos - target)) <= _PLACE_TOLERANCE
+        return float(np.linalg.norm(pos - target)) <= self.cell.config.place_tolerance
 
     def _settle(self, geom, seconds: float = 1.0) -> bool:
         """Let a released part come to rest, then check completion (the scene decides, not a timer)."""
@@ -76,7 +76,7 @@ class Session:
         """The weld target that brings ``body`` onto ``geom.target`` when the hand reaches its place pose."""
         cell = self.cell
         rate = motion.rate
-        place = next(ph for ph in motion.phases if ph.name in ("place", "insert"))
+        place = next(ph for ph in motion.phases if ph.name in ("place", "insert", "fasten"))
         start = int(np.ceil(motion.t_grasp * rate))
         end = min(int(np.ceil(place.start * rate)), len(motion.t) - 1)
         # Hand pose at the place frame, from the human's own kinematics.
@@ -117,7 +117,7 @@ class Session:
         def on_release() -> None:
             cell.release(self.hand, grasp_part)
             cell.pass_through(carried, False)
-            if geom.kind == "insert":
+            if geom.seats:
                 cell.seat(geom.part)
 
         plant.on_grasp, plant.on_release = on_grasp, on_release
@@ -149,7 +149,7 @@ class Session:
             return _Outcome(False, "timeout", t0, plant.time)
         if not self.robot.ok:
             return self._robot_failure(t0)
-        if geom.kind == "insert":
+        if geom.seats:
             self.cell.seat(geom.part)
         ok = self._settle(geom, 1.0)
         return _Outcome(ok, "ok" if ok else "not_completed", t0, plant.time)
@@ -206,7 +206,7 @@ class Session:
     def run(self, repetitions: int) -> SubjectRun:
         plant, cfg = self.plant, self.cfg
         completed = overruns = 0
-        wait = self.mode == "h-only"  # paper §7.2: without the robot the worker waits for the takt
+        wait = get_mode(self.mode).waits_for_takt  # paper §7.2: H-only workers wait for the takt
         for rep in range(1, repetitions + 1):
             slot = (rep - 1) * cfg.takt
             if wait and plant.time < slot:

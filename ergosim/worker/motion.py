@@ -119,8 +119,9 @@ class Worker:
              handover: bool = False) -> ActionMotion:
         """Plan one execution of ``geometry`` from the current scene state.
 
-        ``geometry`` has ``part`` (the part's body name), ``kind`` (place | insert | remove) and ``target`` or
-        ``target_site`` (the site where the part's origin must end up).
+        ``geometry`` has ``part`` (the part's body name), ``kind`` (place | insert | fasten | remove) and
+        ``target`` or ``target_site`` (the site where the part's origin must end up); a fasten action also
+        has ``turn_time`` [s], the time the fastener is held and turned once inserted.
 
         ``handover``: the part is taken from the robot's gripper where it currently is. Variability (posture
         and timing: ``subject.variability_deg``, ``subject.timing_variability``) is drawn from ``rng``.
@@ -182,7 +183,9 @@ class Worker:
         keys = [self.rest, k1, k2, k2, k3, k4, k5, k5, k5, k6, self.rest]
         hands = np.array([ik.hand_pos(k, side) for k in keys])
         grasp_dwell = self.HANDOVER_DWELL if handover else self.GRASP_DWELL
-        place_dwell = self.INSERT_DWELL if kind == "insert" else self.PLACE_DWELL
+        place_dwell = self.INSERT_DWELL if kind in ("insert", "fasten") else self.PLACE_DWELL
+        if kind == "fasten":
+            place_dwell = place_dwell + getattr(geometry, "turn_time", 0.0)
         moves = fitts_duration(np.linalg.norm(np.diff(hands, axis=0), axis=1), speed=self.subject.speed)
         # trial-to-trial timing jitter; always drawn, so the rng stream does not depend on its size
         moves = np.asarray(moves) * rng.lognormal(0.0, self.subject.timing_variability, len(moves))
@@ -197,7 +200,7 @@ class Worker:
         angles = interpolate_keyframes(key_t, np.asarray(keys), t)
         local = ik.hand_path(angles, side)
         hand_world = (local - self._root_pos) @ r_frame.T + frame[0]
-        kind_name = "insert" if kind == "insert" else "place"
+        kind_name = kind if kind in ("insert", "fasten") else "place"
         phases = (
             Phase("reach", 0.0, key_t[2]),
             Phase("take" if handover else "grasp", key_t[2], key_t[3]),

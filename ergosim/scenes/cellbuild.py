@@ -1,0 +1,110 @@
+"""Compile a :class:`~ergosim.scenes.cellspec.CellSpec` into a MuJoCo workcell.
+
+Build order (it fixes body, geom and constraint order, and so the physics): furniture in file order, the
+robots, the human, the parts in file order, the slots' seat sites, the targets' sites, the welds (holders
+× parts, then one seat per inserted part in action order), the ``home`` keyframe.
+"""
+
+from __future__ import annotations
+
+import mujoco
+
+from ergosim.scenes import build
+from ergosim.scenes.cellspec import Box, CellSpec, Shelf, Table, quat_axis_to, rpy_quat, yaw_quat
+from ergosim.scenes.shapes import add_part_body
+from ergosim.scenes.workcell import ActionGeometry, Workcell
+
+__all__ = ["build_cell", "seat_site", "action_geometry"]
+
+
+def seat_site(slot_host: str, part: str) -> str:
+    """Name of the site where ``part`` sits when seated in its slot of ``slot_host``."""
+    return f"{slot_host}_hollow_{part}"
+
+
+def action_geometry(spec: CellSpec) -> dict[str, ActionGeometry]:
+    slots = spec.slots()
+    out = {}
+    for a in spec.actions:
+        if a.kind in ("insert", "fasten"):
+            target = seat_site(slots[a.target].host, a.part)
+        else:
+            target = a.target
+        out[a.label] = ActionGeometry(a.label, a.part, a.kind, target, handover=a.handover,
+                                      turn_time=a.turn_time)
+    return out
+
+
+def _furniture(mspec: mujoco.MjSpec, spec: CellSpec) -> None:
+    surfaces = spec.surfaces()
+    for f in spec.furniture:
+        if isinstance(f, Table):
+            build.add_table(mspec, f.surfaces()[0], thickness=f.thickness, legs=f.legs, rgba=f.rgba)
+        elif isinstance(f, Shelf):
+            top, low = f.ledges()
+            build.add_table(mspec, low, thickness=f.thickness, legs=True, rgba=f.rgba)
+            build.add_table(mspec, top, thickness=f.thickness, legs=False, rgba=f.rgba)
+            (cx, _), (sx, _) = top.center, top.size
+            front = top.center[1] + top.size[1] / 2 - 0.02
+            back = top.center[1] - top.size[1] / 2 + 0.02
+            rise = (top.height - low.height) / 2
+            for i, (x, y) in enumerate([(cx - sx / 2 + 0.02, front), (cx + sx / 2 - 0.02, front),
+                                        (cx - sx / 2 + 0.02, back), (cx + sx / 2 - 0.02, back)]):
+                build.add_box(mspec, f"{f.name}_post{i}", (x, y, low.height + rise), (0.02, 0.02, rise))
+        elif isinstance(f, Box):
+            build.add_box(mspec, f.name, f.center, f.half, rgba=f.rgba)
+            if f.stand_to is not None:
+                (mx, my, mz), hz = f.center, f.half[2]
+                floor = surfaces[f.stand_to].height
+                stand = (mz - hz - floor) / 2
+                build.add_box(mspec, f"{f.name}_stand", (mx + f.stand_offset[0], my + f.stand_offset[1],
+                                                         floor + stand), (*f.stand_half, stand))
+
+
+def _part_pose(spec: CellSpec, part) -> tuple[list[float], list[float]]:
+    if part.xy is not None:
+        surface = spec.surfaces()[part.on] if part.on not in (None, "auto") else spec.surface_under(part.xy)
+        return [part.xy[0], part.xy[1], surface.height + part.rest_height()], yaw_quat(part.yaw)
+    return list(part.pos), (rpy_quat(part.rpy) if part.rpy is not None else yaw_quat(part.yaw))
+
+
+def build_cell(spec: CellSpec) -> Workcell:
+    """The compiled :class:`Workcell` of ``spec`` (reset to its ``home`` keyframe)."""
+    m = build.new_spec(spec.name, spec.timestep)
+    _furniture(m, spec)
+    surfaces = spec.surfaces()
+    hands: dict[str, str] = {}
+    for r in spec.robots:
+        support = surfaces[r.support].height if r.support is not None else None
+        build.attach_panda(m, r.base, r.yaw, spec.timestep, support_height=support)
+        hands[r.name] = "panda_hand"
+    human = build.attach_human(m, spec.worker)
+    hands.update(build.human_hand_bodies(m))
+    bodies = {}
+    for part in spec.parts:
+        pos, quat = _part_pose(spec, part)
+        bodies[part.name] = build_part = add_part_body(m, part, pos, quat)
+        del build_part
+    slots = spec.slots()
+    seats = []
+    for a in spec.actions:
+        if a.kind not in ("insert", "fasten"):
+            continue
+        slot = slots[a.target]
+        part = spec.part(a.part)
+        centre = [slot.at[i] + part.insert_half_length * slot.axis[i] for i in range(3)]
+        bodies[slot.host].add_site(name=seat_site(slot.host, a.part), pos=centre,
+                                   quat=quat_axis_to(part.insert_axis, slot.axis).tolist(), group=4)
+        seats.append((slot.host, a.part))
+    for t in spec.targets:
+        if t.kind == "place":
+            pos = [*t.xy, surfaces[t.on].height + spec.part(t.part).rest_height()]
+        else:
+            pos = list(t.pos)
+        m.worldbody.add_site(name=t.name, pos=pos, quat=yaw_quat(t.yaw), group=4)
+    # insertion is a weld within tolerance (Workcell.seat), not a contact simulation of the fit
+    for host, part in seats:
+        m.add_exclude(bodyname1=host, bodyname2=part)
+    build.add_welds(m, hands, [p.name for p in spec.parts], seats)
+    model = build.finish(m, where=spec.source, has_robot=bool(spec.robots))
+    return Workcell(spec, model, action_geometry(spec), hands, human=human)

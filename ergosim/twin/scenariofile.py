@@ -1,0 +1,194 @@
+"""Scenario files: read one, resolve its task and workcell, apply overrides, and register scenarios by name.
+
+A :class:`Scenario` is everything a run needs, resolved and checked before any physics: the protocol
+(:class:`~ergosim.twin.scenario.ScenarioConfig`), the task's TOML text and the workcell document, with
+the workcell overrides kept apart so each subject's workcell can add its own body to them. It is plain
+data, so it travels to worker processes as it is.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+import tomllib
+from collections.abc import Mapping
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+from ergosim.errors import ConfigError, TaskFileError
+from ergosim.overrides import apply_overrides
+from ergosim.planner import AndOrGraph, bundled_task_source, bundled_task_text, task_from_dict
+from ergosim.planner.bundled import BUNDLED_TASKS
+from ergosim.scenes import CellSpec, apply_cell_overrides, cell_document, parse_cell
+from ergosim.scenes.cellfile import read_toml
+from ergosim.twin.scenario import ScenarioConfig
+
+__all__ = ["Scenario", "register_scenario", "scenario_names", "scenario_path", "scenario_description",
+           "load_scenario", "scenario_config", "split_overrides"]
+
+_TOP = {"name", "description", "task", "workcell", "protocol"}
+_LABEL_FIELDS = ("scene", "task")
+
+_SCENARIOS: dict[str, Path] = {}
+
+
+def register_scenario(name: str, path: str | os.PathLike[str]) -> None:
+    """Make the scenario file at ``path`` runnable by ``name`` (``ergosim run NAME``)."""
+    _SCENARIOS[name] = Path(path)
+
+
+for _f in sorted(resources.files("ergosim").joinpath("data", "scenarios").iterdir(), key=lambda f: f.name):
+    if _f.name.endswith(".toml"):
+        register_scenario(_f.name.removesuffix(".toml"), Path(str(_f)))
+
+
+def scenario_names() -> tuple[str, ...]:
+    return tuple(_SCENARIOS)
+
+
+def scenario_path(name_or_path: str | os.PathLike[str]) -> Path:
+    """The file of a registered scenario, or ``name_or_path`` itself when it is a file."""
+    text = str(name_or_path)
+    if text in _SCENARIOS:
+        return _SCENARIOS[text]
+    if text.endswith(".toml") or os.sep in text:
+        return Path(text)
+    raise ConfigError(f"unknown scenario {text!r}; valid scenarios: {', '.join(_SCENARIOS)} "
+                      "(or the path of a scenario file)", where="ergosim run")
+
+
+def scenario_description(name: str) -> str:
+    doc = read_toml(scenario_path(name), what="scenario file")
+    return str(doc.get("description", ""))
+
+
+@dataclasses.dataclass(frozen=True)
+class Scenario:
+    """A resolved scenario. ``cell_overrides``: workcell overrides (dotted path or alias -> value) applied
+    on top of ``cell_doc`` for every subject."""
+
+    name: str
+    source: str
+    protocol: ScenarioConfig
+    task_doc: Mapping[str, Any]
+    task_source: str
+    cell_doc: Mapping[str, Any]
+    cell_source: str
+    cell_overrides: Mapping[str, Any] = dataclasses.field(default_factory=dict)
+
+    def task(self) -> AndOrGraph:
+        return task_from_dict(dict(self.task_doc), source=self.task_source)
+
+    def cell(self, **extra: Any) -> CellSpec:
+        """The workcell with ``extra`` (e.g. a subject's body) and then the scenario's overrides applied."""
+        overrides = {**extra, **dict(self.cell_overrides)}
+        doc = apply_cell_overrides(self.cell_doc, overrides, where=f"{self.cell_source} (overrides)")
+        return parse_cell(doc, source=self.cell_source)
+
+    def with_overrides(self, overrides: Mapping[str, Any], where: str = "--set") -> Scenario:
+        """A copy with protocol fields and workcell fields overridden (see :func:`split_overrides`)."""
+        own, cell = split_overrides(overrides)
+        protocol = apply_overrides(self.protocol, own, where=where) if own else self.protocol
+        protocol.validate(where=where)
+        new = dataclasses.replace(self, protocol=protocol,
+                                  cell_overrides={**dict(self.cell_overrides), **cell})
+        if cell:
+            new.cell()  # a bad workcell key or value fails now, before any simulation
+        return new
+
+
+def split_overrides(overrides: Mapping[str, Any]) -> tuple[dict[str, Any], dict[str, Any]]:
+    """(protocol overrides, workcell overrides): ``scene.K``/``workcell.K`` go to the workcell as ``K``,
+    ``protocol.K`` and bare keys to the protocol."""
+    own, cell = {}, {}
+    for key, value in overrides.items():
+        head, _, rest = key.partition(".")
+        if head in ("scene", "workcell") and rest:
+            cell[rest] = value
+        elif head == "protocol" and rest:
+            own[rest] = value
+        else:
+            own[key] = value
+    if any(k in _LABEL_FIELDS for k in own):
+        bad = next(k for k in own if k in _LABEL_FIELDS)
+        origin = "workcell" if bad == "scene" else "task"
+        raise ConfigError(f"{bad!r} is set by the scenario file's {origin}, not by --set", where="--set")
+    return own, cell
+
+
+def _resolve_task(value: Any, base: Path, where: str) -> tuple[dict[str, Any], str, str]:
+    """(task document, its source for messages, its label) of a scenario's ``task`` entry."""
+    if isinstance(value, dict):
+        return value, f"{where}: task", str(value.get("name", "task"))
+    if not isinstance(value, str) or not value:
+        raise ConfigError(f"expected a bundled task, a task file or a [task] table, got {value!r}",
+                          where=f"{where}: task")
+    if value in BUNDLED_TASKS:
+        source = bundled_task_source(value)
+        return tomllib.loads(bundled_task_text(value)), source, Path(source).stem
+    path = (base / value) if not Path(value).is_absolute() else Path(value)
+    if not path.is_file():
+        raise ConfigError(f"no such task file {str(path)!r} (nor a bundled task: {', '.join(BUNDLED_TASKS)})",
+                          where=f"{where}: task")
+    try:
+        return read_toml(path, what="task file"), str(path), path.stem
+    except ConfigError as err:
+        raise TaskFileError(err.what, where=err.where) from None
+
+
+def _resolve_cell(value: Any, base: Path, where: str) -> tuple[dict[str, Any], str]:
+    if isinstance(value, dict):
+        return value, f"{where}: workcell"
+    if not isinstance(value, str) or not value:
+        raise ConfigError("expected a bundled workcell, a workcell file or a [workcell] table, got "
+                          f"{value!r}", where=f"{where}: workcell")
+    if value.endswith(".toml"):
+        path = (base / value) if not Path(value).is_absolute() else Path(value)
+        return cell_document(path)
+    return cell_document(value)
+
+
+def load_scenario(name_or_path: str | os.PathLike[str],
+                  overrides: Mapping[str, Any] | None = None) -> Scenario:
+    """Read, resolve and check a scenario (a registered name or a scenario file), with ``overrides``."""
+    path = scenario_path(name_or_path)
+    doc = read_toml(path, what="scenario file")
+    bundled = str(name_or_path) in _SCENARIOS
+    source = f"ergosim/data/scenarios/{path.name}" if bundled else str(path)
+    unknown = sorted(set(doc) - _TOP)
+    if unknown:
+        raise ConfigError(f"unknown key {unknown[0]!r}; valid keys: {', '.join(sorted(_TOP))}", where=source)
+    for key in ("task", "workcell"):
+        if key not in doc:
+            raise ConfigError(f"missing key {key!r}", where=source)
+    name = str(doc.get("name", path.stem))
+    task_doc, task_source, task_label = _resolve_task(doc["task"], path.parent, source)
+    cell_doc, cell_source = _resolve_cell(doc["workcell"], path.parent, source)
+    cell = parse_cell(cell_doc, source=cell_source)
+    protocol = doc.get("protocol", {})
+    if not isinstance(protocol, dict):
+        raise ConfigError(f"expected a table, got {protocol!r}", where=f"{source}: protocol")
+    bad = [k for k in protocol if k in _LABEL_FIELDS]
+    if bad:
+        origin = "workcell" if bad[0] == "scene" else "task"
+        raise ConfigError(f"{bad[0]!r} comes from the scenario's {origin}", where=f"{source}: protocol")
+    missing = [k for k in ("subjects", "repetitions", "modes", "robot_cost") if k not in protocol]
+    if missing:
+        raise ConfigError(f"missing key {missing[0]!r}", where=f"{source}: protocol")
+    base = ScenarioConfig(scene=cell.name, task=task_label, subjects=1, repetitions=1, modes=("hrc",),
+                          robot_cost=1.0)
+    cfg = apply_overrides(base, {k: (tuple(v) if isinstance(v, list) else v) for k, v in protocol.items()},
+                          where=f"{source}: protocol")
+    cfg.validate(where=f"{source}: protocol")
+    scenario = Scenario(name=name, source=source, protocol=cfg, task_doc=task_doc, task_source=task_source,
+                        cell_doc=cell_doc, cell_source=cell_source)
+    from ergosim.twin.scenario_check import check_scenario  # noqa: PLC0415
+
+    check_scenario(scenario, scenario.task(), cell)
+    return scenario.with_overrides(overrides) if overrides else scenario
+
+
+def scenario_config(name: str) -> ScenarioConfig:
+    """The protocol of scenario ``name`` (a registered name or a scenario file)."""
+    return load_scenario(name).protocol
