@@ -38,6 +38,6 @@ def test_scene_compiles_and_steps(name):
     wc = build_scene(name)
     _step_one_second(wc.model, wc.data)
     # parts rest where they were laid out
-    for part in ("J", "L", "S1", "S2"):
+    for part in wc.parts:
         qa = wc.model.joint(part).qposadr[0]
         np.testing.assert_allclose(wc.data.qpos[qa:qa + 3], wc.model.key_qpos[0][qa:qa + 3], atol=2e-3)

@@ -134,7 +134,7 @@ def test_bundled_files_load_through_the_parser(variant):
 
 
 def test_bundled_names_come_from_the_data_folder():
-    assert {"corner-joint", "corner-joint:multi-subject", "corner-joint:kwear-validation"} <= set(
+    assert {"corner-joint", "corner-joint:multi-subject", "corner-joint:kwear-validation", "gearbox"} <= set(
         BUNDLED_TASKS)
     assert bundled_task("corner-joint").operations == bundled_task("corner-joint:multi-subject").operations
 

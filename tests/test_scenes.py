@@ -30,7 +30,7 @@ def test_public_api_names_exist():
 
 
 def test_registry_lists_scenes_and_rejects_unknown():
-    assert {"kwear-validation", "multi-subject"} <= set(scene_names())
+    assert {"gearbox", "kwear-validation", "multi-subject"} <= set(scene_names())
     with pytest.raises(ConfigError, match="kwear-validation"):
         build_scene("assembly-line")
     assert default_config("multi_subject") == default_config("multi-subject")

@@ -74,6 +74,7 @@ class Skill(ABC):
     def __init__(self, workcell, part: str, kin: PandaKinematics | None = None,
                  params: SkillParams = SkillParams()) -> None:
         self.wc = workcell
+        self.holder = workcell.robots[0]  # the holder name of the cell's robot (its task agent)
         self.part = part
         self.kin = kin or PandaKinematics()
         self.params = params
@@ -207,7 +208,7 @@ class Skill(ABC):
             yield
             left, right = self._touching(body)
             if left and right:
-                self.wc.grasp("robot", body_name)
+                self.wc.grasp(self.holder, body_name)
                 d.ctrl[7] = d.qpos[self._finger_q].mean()  # hold the fingers where they touch the part
                 return True
             stalled = stalled + 1 if d.ctrl[7] == 0.0 else 0
@@ -323,7 +324,7 @@ class _Carry(Skill):
             yield
             if i % every == 0 and np.linalg.norm(d.site_xmat[self._tcp].reshape(3, 3).T
                                                  @ (d.site_xpos[site] - d.site_xpos[self._tcp]) - grip) > tol:
-                self.wc.release("robot", self.grasp_body)
+                self.wc.release(self.holder, self.grasp_body)
                 yield from self._open()
                 yield from self._follow(self._home(self._q(), self._tcp_world()))
                 return self._finish(SkillStatus.DROPPED, f"{self.part} left the gripper while carried")
@@ -363,15 +364,23 @@ class PickPlace(_Carry):
             yield
             return self._finish(SkillStatus.UNREACHABLE, f"cannot take {self.part} to "
                                 f"{np.round(self.target.pos, 3).tolist()}: {err}")
-        failure = yield from self._carry(reach, carry)
-        if failure is not None:
-            return failure
-        if self.hold > 0:
-            yield from self._hold(self.hold)
-        self.wc.release("robot", self.grasp_body)
-        seated = self.wc.seat(self.part) if self.seat else None
-        yield from self._open()
-        yield from self._hold(p.settle)
+        # Insertion is a weld within tolerance, not a contact fit: the fingers that hold the part down to
+        # its seat pass the host's walls, as the last millimetres of a chamfered bore would let them.
+        if self.seat:
+            self.wc.host_robot_contacts(self.part, False)
+        try:
+            failure = yield from self._carry(reach, carry)
+            if failure is not None:
+                return failure
+            if self.hold > 0:
+                yield from self._hold(self.hold)
+            self.wc.release(self.holder, self.grasp_body)
+            seated = self.wc.seat(self.part) if self.seat else None
+            yield from self._open()
+            yield from self._hold(p.settle)
+        finally:
+            if self.seat:
+                self.wc.host_robot_contacts(self.part, True)
         yield from self._follow(retreat)
         yield from self._follow(home)
         yield from self._hold(p.settle)
@@ -385,7 +394,7 @@ class PickPlace(_Carry):
 
 def _worker_holds(part: str) -> Callable[[object], bool]:
     def taken(wc) -> bool:
-        return any(wc.is_held(h, part) for h in wc.holders if h != "robot")
+        return any(wc.is_held(h, part) for h in wc.holders if h not in wc.robots)
     return taken
 
 
@@ -420,14 +429,14 @@ class Handover(_Carry):
         while not self.taken(self.wc):
             waited += 1
             if waited * self.dt > p.handover_timeout:
-                self.wc.release("robot", self.grasp_body)
+                self.wc.release(self.holder, self.grasp_body)
                 yield from self._open()
                 yield from self._follow(home)
                 return self._finish(SkillStatus.TIMEOUT, f"nobody took {self.part} within "
                                     f"{p.handover_timeout:.0f} s")
             yield
         error = float(np.linalg.norm(self.wc.body_pose(self.part)[0] - self.target.pos))
-        self.wc.release("robot", self.grasp_body)
+        self.wc.release(self.holder, self.grasp_body)
         yield from self._open()
         yield from self._follow(retreat)
         yield from self._follow(home)

@@ -21,10 +21,9 @@ from ergosim.robot.mjcf import HOME_QPOS
 from ergosim.robot.model import compile_spec, panda_spec
 from ergosim.scenes.cellspec import Surface, Worker
 
-__all__ = ["HOLDERS", "weld_name", "seat_name", "yaw_quat", "new_spec", "add_table", "add_box",
+__all__ = ["weld_name", "seat_name", "yaw_quat", "new_spec", "add_table", "add_box",
            "attach_panda", "attach_human", "add_welds", "human_hand_bodies", "finish"]
 
-HOLDERS = ("robot", "human_right", "human_left")
 WOOD = (0.72, 0.6, 0.45, 1.0)
 METAL = (0.45, 0.47, 0.5, 1.0)
 

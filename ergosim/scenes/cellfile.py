@@ -64,7 +64,7 @@ _PART = {"shape": "str", "size": ("floats", 3), "radius": "float", "length": "fl
          "scale": "float", "bore": "float", "clearance": "float", "wall": "float", "sleeve_length": "float",
          "sleeves": "strs", "mass": "float", "density": "float", "section_area": "float",
          "rgba": ("floats", 4), "on": "str", "xy": ("floats", 2), "yaw": "float", "pos": ("floats", 3),
-         "rpy": ("floats", 3), "insert_axis": "str", "slots": "slots"}
+         "rpy": ("floats", 3), "insert_axis": "str", "grasp": "str", "slots": "slots"}
 _SLOT = {"name": "str", "at": ("floats", 3), "axis": "axis"}
 _TARGET = {"on": "str", "xy": ("floats", 2), "yaw": "float", "part": "str", "pos": ("floats", 3)}
 _ACTION = {"kind": "str", "part": "str", "target": "str", "handover": "str", "turn_time": "float"}
@@ -272,6 +272,8 @@ def _part(name: str, t: Any, where: str) -> Part:
     for k in need[f["shape"]]:
         if k not in f:
             raise ConfigError(f"a {f['shape']} needs {k!r}", where=where)
+    if f.get("grasp", "center") not in ("center", "top"):
+        raise ConfigError(f"expected center or top, got {f['grasp']!r}", where=f"{where}.grasp")
     if f.get("insert_axis", "x") not in ("x", "y", "z"):
         raise ConfigError(f"expected x, y or z, got {f['insert_axis']!r}", where=f"{where}.insert_axis")
     for s in f.get("sleeves", ()):

@@ -92,8 +92,9 @@ class Shelf:
 
 @dataclasses.dataclass(frozen=True)
 class Box:
-    """A solid box: centre (x, y, z) and half sizes [m]; optionally on a post (``stand_half`` (x, y) half
-    sizes, offset ``stand_offset`` (x, y) from the centre) down to surface ``stand_to`` (a monitor)."""
+    """A solid box: centre (x, y, z) and half sizes [m], whose top is a surface named after it; optionally
+    on a post (``stand_half`` (x, y) half sizes, offset ``stand_offset`` (x, y) from the centre) down to
+    surface ``stand_to`` (a monitor)."""
 
     name: str
     center: tuple[float, float, float]
@@ -104,7 +105,9 @@ class Box:
     stand_half: tuple[float, float] = (0.015, 0.04)
 
     def surfaces(self) -> list[Surface]:
-        return []
+        """Its top face, named after it (a riser on a bench holds parts)."""
+        (x, y, z), (hx, hy, hz) = self.center, self.half
+        return [Surface(self.name, (x, y), (2 * hx, 2 * hy), z + hz)]
 
     def boxes(self) -> list[tuple[np.ndarray, np.ndarray]]:
         return [(np.array(self.center, dtype=float), np.array(self.half, dtype=float))]
@@ -138,7 +141,8 @@ class Part:
     Mass: ``mass`` [kg], else ``density`` [kg/m^3] × (``section_area`` [m^2] × length along x, for an
     extrusion; else the solid volume). Placement: resting on surface ``on`` ("auto": the highest surface
     under ``xy``) at ``xy`` with ``yaw`` [deg], or at a full pose ``pos`` (3,) [m] + ``rpy`` [deg].
-    ``insert_axis``: the local axis that goes along a slot's axis when the part is inserted.
+    ``insert_axis``: the local axis that goes along a slot's axis when the part is inserted. ``grasp``:
+    where a robot takes it from above, at its middle or just below its top (a screw by its head).
     """
 
     name: str
@@ -163,6 +167,7 @@ class Part:
     pos: tuple[float, float, float] | None = None
     rpy: tuple[float, float, float] | None = None
     insert_axis: Literal["x", "y", "z"] = "x"
+    grasp: Literal["center", "top"] = "center"
     slots: tuple[Slot, ...] = ()
 
     @property

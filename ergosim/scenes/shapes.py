@@ -4,9 +4,11 @@ A part is a free body whose frame is its centre. Visual geoms are group 2; the c
 carry the parts' own collision bits (:data:`PART_COLLISION`). Grasp sites give the TCP pose of a top-down
 grasp with the fingers closing along the part's local y:
 
-- ``<part>_grasp``: at the middle of the part lying as placed (TCP z = -local z);
-- ``<part>_grasp_end``: near the +x end of a long part standing on its -x end (TCP z = -local x), for
-  grasping a whole assembly by a part that sticks up out of it.
+- ``<part>_grasp``: at the middle of the part lying as placed (TCP z = -local z), or just below its top
+  (``grasp = "top"``: a screw by its head);
+- ``<part>_grasp_end``: near the far end of the part's insertion axis once it stands inserted (a profile
+  along local x: TCP z = -local x; a part inserted along local z: TCP z = -local z), for grasping a whole
+  assembly by a part that sticks up out of it.
 
 A socket block is a cast corner connector: a core cube with square sleeves (4 walls each) along the local
 axes in ``sleeves``, each taking a profile of width ``bore`` with ``clearance``; its collision shape is the
@@ -31,7 +33,9 @@ assembly, and insertion itself is a weld (Workcell.seat), not a contact fit."""
 _AXIS = {"x": np.array([1.0, 0, 0]), "y": np.array([0, 1.0, 0]), "z": np.array([0, 0, 1.0])}
 _DOWN_Z = [0, 0, 1, 0]  # TCP frame of a top-down grasp: rotation of pi about y (z -> -z, x -> -x)
 _DOWN_X = [np.cos(np.pi / 4), 0, -np.sin(np.pi / 4), 0]  # TCP x = local z, z = -local x: -90 deg about y
-_END_GRASP = 0.025  # m below the +x end, where a standing part is taken by its end (assumed: a finger pad)
+_END_GRASP = 0.025  # m below the +x end, where a standing profile is taken by its end (assumed: a finger pad)
+_TOP_GRASP = 0.008  # m below the top, where a part is taken by its top: the Panda's finger pads reach about
+# 9 mm below the TCP (assumed from the finger mesh), so the pads stay clear of what the part stands in
 
 
 def add_part_body(spec: mujoco.MjSpec, part: Part, pos, quat) -> mujoco.MjsBody:
@@ -55,10 +59,14 @@ def add_part_body(spec: mujoco.MjSpec, part: Part, pos, quat) -> mujoco.MjsBody:
         del mesh
         body.add_geom(name=f"{part.name}_geom", type=mujoco.mjtGeom.mjGEOM_MESH, meshname=f"{part.name}_mesh",
                       rgba=rgba, **inertial, **PART_COLLISION)
-    body.add_site(name=f"{part.name}_grasp", quat=_DOWN_Z, group=4)
-    hx = part.half_extents[0]
-    if part.shape != "cylinder" and hx > _END_GRASP:
+    hx, _, hz = part.half_extents
+    top = [0.0, 0.0, hz - min(_TOP_GRASP, hz)]
+    grasp = top if part.grasp == "top" else [0.0, 0.0, 0.0]
+    body.add_site(name=f"{part.name}_grasp", pos=grasp, quat=_DOWN_Z, group=4)
+    if part.insert_axis == "x" and hx > _END_GRASP:
         body.add_site(name=f"{part.name}_grasp_end", pos=[hx - _END_GRASP, 0, 0], quat=_DOWN_X, group=4)
+    elif part.insert_axis == "z":
+        body.add_site(name=f"{part.name}_grasp_end", pos=top, quat=_DOWN_Z, group=4)
     return body
 
 

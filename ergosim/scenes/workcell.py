@@ -15,7 +15,7 @@ import numpy as np
 
 from ergosim.errors import ConfigError
 from ergosim.human.mocap import MocapHuman
-from ergosim.scenes.build import HOLDERS, seat_name, weld_name
+from ergosim.scenes.build import seat_name, weld_name
 from ergosim.scenes.cellspec import CellSpec
 from ergosim.scenes.shapes import PART_COLLISION
 
@@ -169,7 +169,7 @@ class Workcell:
         self._wake(b1, b2)
 
     def grasp(self, holder: str, part: str) -> None:
-        """``holder`` ("robot", "human_right", "human_left") takes ``part`` where both are now.
+        """``holder`` (a robot's name, "human_right", "human_left") takes ``part`` where both are now.
 
         The weld *is* the grasp. For the robot, the part (with whatever is seated with it) stops colliding
         with the robot's geoms while held: fingers squeezing a welded part only add contact rows that fight
@@ -177,13 +177,13 @@ class Workcell:
         furniture, and the other parts still collide with the fingers."""
         self._check(holder, part)
         self._activate(self._weld[holder, part], self._hand[holder], self._body[part])
-        if holder == "robot":
+        if holder in self.robots:
             self._robot_contacts(part, False)
 
     def release(self, holder: str, part: str) -> None:
         self._check(holder, part)
         self.data.eq_active[self._weld[holder, part]] = 0
-        if holder == "robot":
+        if holder in self.robots:
             self._robot_contacts(part, True)
         self._wake(self._hand[holder], self._body[part])
 
@@ -202,11 +202,16 @@ class Workcell:
                     grew = True
         return out
 
-    def _robot_contacts(self, part: str, on: bool) -> None:
+    def host_robot_contacts(self, part: str, on: bool) -> None:
+        """Switch the robot bit of the collision affinity of the assembly that ``part`` is inserted into
+        (its slot's host and what is seated with it), e.g. off while a robot pushes ``part`` into its seat."""
+        self._robot_contacts(self._host[part], on, skip=part)
+
+    def _robot_contacts(self, part: str, on: bool, skip: str | None = None) -> None:
         """Switch the robot bit of the collision affinity of ``part``'s assembly. Geoms switched off
         altogether (a part carried by the worker passes through everything) are left as they are."""
         m = self.model
-        geoms = self.collision_geoms(part)
+        geoms = np.concatenate([self._collision_geoms[p] for p in self.assembly(part) if p != skip])
         live = geoms[m.geom_contype[geoms] != 0]
         if on:
             m.geom_conaffinity[live] |= _ROBOT_BIT
@@ -295,4 +300,4 @@ class Workcell:
 
     @property
     def holders(self) -> tuple[str, ...]:
-        return tuple(h for h in HOLDERS if h in self._hand)
+        return tuple(self._hand)

@@ -74,7 +74,7 @@ class RobotTrack:
     def _taken(self, part: str):
         def taken(wc) -> bool:
             self.waiting = True  # called only once the part is at the handover pose
-            return any(wc.is_held(h, part) for h in wc.holders if h != "robot")
+            return any(wc.is_held(h, part) for h in wc.holders if h not in wc.robots)
         return taken
 
     def advance(self, model: mujoco.MjModel, data: mujoco.MjData, n: int) -> None:
