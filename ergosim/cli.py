@@ -2,7 +2,8 @@
 
 Each subcommand lives in ``ergosim/commands/<name>.py`` and exposes ``add_parser(subparsers)`` and
 ``run(args) -> int``. Errors from the :class:`~ergosim.errors.ErgosimError` family are printed as one
-line on stderr with exit status 2, never as a traceback.
+line on stderr with exit status 2, never as a traceback. ``ergosim run`` exits 3 when a repetition was
+abandoned, and 128 + N when signal N (SIGINT, SIGTERM) stopped it.
 """
 
 from __future__ import annotations
@@ -42,9 +43,10 @@ def main(argv: list[str] | None = None) -> int:
     except ErgosimError as err:
         print(f"ergosim: error: {err}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        print("ergosim: interrupted", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as err:  # Ctrl-C, or SIGTERM during a run (ergosim.twin.interrupt)
+        signum = getattr(err, "signum", 2)
+        print(f"ergosim: interrupted{' by SIGTERM' if signum == 15 else ''}", file=sys.stderr)
+        return 128 + signum
     except BrokenPipeError:
         # the reader of stdout went away (e.g. `ergosim plan ... | head`): stop quietly, as Unix tools do
         devnull = os.open(os.devnull, os.O_WRONLY)

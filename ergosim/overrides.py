@@ -53,9 +53,7 @@ def _convert(raw: Any, annotation: Any, key: str, where: str) -> Any:
             return raw
         raise ConfigError(f"{key}={raw!r} is not one of {', '.join(map(str, args))}", where=where)
     if origin is tuple:
-        parts = raw if isinstance(raw, (tuple, list)) else [p for p in str(raw).split(",") if p.strip()]
-        elem = args[0] if args else str
-        return tuple(_convert(p.strip() if isinstance(p, str) else p, elem, key, where) for p in parts)
+        return _tuple(raw, args, key, where)
     if annotation is bool:
         if isinstance(raw, bool):
             return raw
@@ -81,6 +79,33 @@ def _convert(raw: Any, annotation: Any, key: str, where: str) -> Any:
     if annotation is str:
         return str(raw)
     return raw
+
+
+def _tuple(raw: Any, args: tuple, key: str, where: str) -> tuple:
+    """``"0.1,0.8"`` -> (0.1, 0.8). A fixed-length tuple must get exactly its number of values; a tuple of
+    pairs (``tuple[tuple[str, float], ...]``) is written ``name:value,name:value``."""
+    variable = len(args) == 2 and args[1] is Ellipsis
+    elem = args[0] if args else str
+    nested = typing.get_origin(elem) is tuple
+    if isinstance(raw, (tuple, list)):
+        parts = list(raw)
+    else:
+        text = str(raw).strip()
+        parts = [p.strip() for p in text.split(",")] if text else []
+        if any(not p for p in parts):
+            raise ConfigError(f"{key}={raw!r} has an empty value between commas", where=where)
+        if nested:
+            parts = [p.split(":") for p in parts]
+    if not variable and args and len(parts) != len(args):
+        n, got = len(args), len(parts)
+        raise ConfigError(f"{key}={raw!r} has {got} value{'s' if got != 1 else ''}, expected {n} "
+                          f"(comma-separated, e.g. {key}={','.join(['0'] * n)})", where=where)
+    width = len(typing.get_args(elem))
+    if nested and any(not isinstance(p, (tuple, list)) or len(p) != width for p in parts):
+        raise ConfigError(f"{key}={raw!r}: expected name:value pairs separated by commas, e.g. "
+                          f"{key}=upper_arm:1.1,forearm:0.95", where=where)
+    types = args if not variable and args else (elem,) * len(parts)
+    return tuple(_convert(p, t, key, where) for p, t in zip(parts, types, strict=True))
 
 
 def apply_overrides(cfg: Any, overrides: Mapping[str, Any], *, where: str = "--set") -> Any:

@@ -212,7 +212,7 @@ def test_plan_call_errors(multi):
     with pytest.raises(ConfigError, match="pairs"):
         multi.plan(pruned=("a1", "robot"))
     for bad in (-1.0, math.inf, math.nan):
-        with pytest.raises(ConfigError, match="finite and >= 0"):
+        with pytest.raises(ConfigError, match="must be finite, >= 0"):
             multi.plan(costs={("a1", "human"): bad})
     with pytest.raises(ConfigError, match="unknown planner"):
         multi.plan(planner="astar")

@@ -54,7 +54,7 @@ def test_overrides_by_alias_and_dotted_path_and_errors():
         load_cell("kwear-validation", stature=3.0)
     with pytest.raises(ConfigError, match="not on the shelf_top"):
         load_cell("kwear-validation", j_xy=(0.5, 0.0))
-    with pytest.raises(ConfigError, match="expected 2 numbers, got 1"):
+    with pytest.raises(ConfigError, match="l_xy='1' has 1 value, expected 2"):
         load_cell("kwear-validation", l_xy="1")
     with pytest.raises(dataclasses.FrozenInstanceError):
         cfg.name = "other"

@@ -17,7 +17,7 @@ from ergosim.twin.scenariofile import scenario_config
 def _run(subject: int, mode: str, agents: list[str], kwear_level: float) -> SubjectRun:
     allocs = [
         Allocation(subject, mode, rep, order, f"a{order + 1}", agent, 1.0, 2.5, 0.0, 1.0,
-                   had_choice=order < 4)
+                   had_choice=order < 4, allocatable=order < 4)
         for rep in (1, 2)
         for order, agent in enumerate(agents)
     ]
@@ -29,11 +29,11 @@ def _run(subject: int, mode: str, agents: list[str], kwear_level: float) -> Subj
     return SubjectRun(subject, mode, allocs, ticks, 2, 1, 0.05, 0.8)
 
 
-def test_robot_share_counts_only_decisions_with_a_choice():
+def test_robot_share_counts_completed_actions_either_agent_may_do():
     runs = {"hrc": [_run(0, "hrc", ["robot", "human", "human", "robot", "human"], 0.5)]}
     s = summarise("x", 7, runs, actions=["a1", "a2", "a3", "a4", "a5"])["modes"]["hrc"]
-    assert (s["actions"], s["robot_actions"]) == (8, 4)
-    assert s["robot_share"] == 0.5
+    assert (s["actions"], s["robot_actions"]) == (8, 4)  # a5 is the human's alone: not allocatable
+    assert s["robot_share"] == 0.5 and s["robot_share_chosen"] == 0.5
     assert s["robot_share_by_action"] == {"a1": 1.0, "a2": 0.0, "a3": 0.0, "a4": 1.0}
     # 40 ticks x 0.05 s x 5 joints x 0.5
     assert s["kwear_integral_by_subject"] == [pytest.approx(5.0)]

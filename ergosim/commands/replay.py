@@ -1,12 +1,16 @@
 """``ergosim replay FILE.bvh``: a real motion-capture recording through RULA and KWear (paper eq. 3-5).
 
-ergosim replay FILE.bvh [--out DIR] [--rate HZ] [--worker ID --store PATH]
+ergosim replay FILE.bvh [--out DIR] [--rate HZ] [--worker ID --store PATH] [--map MAP.toml]
+                        [--side right|left|both] [--rrd FILE]
 
-The BVH skeleton is mapped onto the canonical angles (docs/bvh.md), sampled at the ergonomics rate and
-replayed through :func:`ergosim.worker.replay`, the path the twin's own recordings take: RULA per body part
-per tick, then KWear per joint from zero wear. A recording carries no action boundaries, so every tick
-counts as acting (wear, eq. 3-4). Writes ``DIR/ticks.csv`` (:data:`~ergosim.worker.REPLAY_COLUMNS`) and
-``DIR/summary.json``, both atomically.
+The BVH skeleton is mapped onto the canonical angles (docs/bvh.md; ``--map`` names the joints of a skeleton
+that is not recognised), sampled at the ergonomics rate and replayed through :func:`ergosim.worker.replay`,
+the path the twin's own recordings take: RULA per body part per tick, then KWear per joint from zero wear.
+RULA scores one arm at a time: ``--side`` picks the right (default, the paper's dominant arm), the left, or
+both, each replayed on its own. A recording carries no action boundaries, so every tick counts as acting
+(wear, eq. 3-4). Writes ``DIR/ticks.csv`` (``ticks_right.csv`` and ``ticks_left.csv`` with ``--side both``;
+:data:`~ergosim.worker.REPLAY_COLUMNS`), ``DIR/summary.json`` and ``DIR/kwear_timeline_<side>.png``, all
+atomically, and with ``--rrd`` a rerun recording of the angles, RULA and KWear.
 """
 
 from __future__ import annotations
@@ -23,6 +27,8 @@ from ergosim.errors import ConfigError, RecordingError
 __all__ = ["add_parser", "run", "replay_summary", "summary_lines", "write_ticks"]
 
 _DEFAULT_OUT = Path("results") / "replay"
+SIDES = ("right", "left", "both")
+_V_TH = 0.8  # V_th drawn on the plots and in the recording: the paper's 80 % of the KWear range (§7.1)
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
@@ -39,6 +45,12 @@ def add_parser(sub) -> argparse.ArgumentParser:
                    help="ergonomics rate [Hz] (default 20, as in the paper)")
     p.add_argument("--worker", metavar="ID", help="take the KWear constants of this worker from --store")
     p.add_argument("--store", metavar="PATH", help="parameter-store directory (with --worker)")
+    p.add_argument("--map", metavar="MAP.toml",
+                   help="joint names for a skeleton that is not recognised: role = \"JointName\" lines "
+                        "(docs/bvh.md)")
+    p.add_argument("--side", choices=SIDES, default="right",
+                   help="arm scored by RULA: right (default, the paper's dominant arm), left or both")
+    p.add_argument("--rrd", metavar="FILE", help="also save a rerun recording of angles, RULA and KWear")
     return p
 
 
@@ -55,14 +67,31 @@ def _kwear_params(args):
     return ParamStore(args.store).load(args.worker).kwear, args.worker
 
 
-def _load(path: Path):
+def _load(path: Path, map_file: str | None):
     from ergosim.worker.bvh import load_bvh  # noqa: PLC0415
+    from ergosim.worker.bvh_map_file import read_name_map  # noqa: PLC0415
 
+    name_map = read_name_map(map_file) if map_file else None
     if not path.exists():
         raise RecordingError("no such file", where=str(path))
     if path.is_dir():
         raise RecordingError("is a directory, expected a BVH file", where=str(path))
-    return load_bvh(path)
+    return load_bvh(path, name_map=name_map)
+
+
+def side_angles(recording, side: str) -> np.ndarray:
+    """(n, 14) RULA input for one ``side``: trunk and neck, then that arm's angles (same anatomical signs,
+    ergosim.posture). RecordingError if the file has no such arm."""
+    from ergosim.posture import ANGLE_NAMES, ARM  # noqa: PLC0415
+
+    if side == "right":
+        return recording.array(ANGLE_NAMES)
+    names = tuple(f"left_{n}" if n in ARM else n for n in ANGLE_NAMES)
+    if not all(n in recording.angles for n in names):
+        raise RecordingError("the recording has no complete left arm (clavicle optional, upper arm, forearm "
+                             "and hand needed); use --side right or name its joints with --map",
+                             where=str(recording.source))
+    return recording.array(names)
 
 
 def _stat(x: np.ndarray) -> dict[str, float | None]:
@@ -135,30 +164,71 @@ def summary_lines(summary: dict) -> list[str]:
     return lines
 
 
+def _record(path: str, traces: dict, name: str) -> None:
+    """A rerun recording of each side's trace: angles, RULA and KWear (``repetition`` = 1 right, 2 left)."""
+    from ergosim.viz import open_recording  # noqa: PLC0415
+
+    rec = open_recording(rrd=path, recording_name=f"ergosim replay {name}")
+    committed = False
+    try:
+        rec.log_ergonomics_static(v_th=np.full(5, _V_TH))
+        for k, trace in enumerate(traces.values(), start=1):
+            n = trace.n
+            rec.log_ticks(k, trace.t, np.zeros((n, 0, 3)), np.zeros((n, 0, 4)), (), trace.angles, trace.rula,
+                          trace.grand, trace.v)
+        committed = True
+    finally:
+        rec.close(commit=committed)
+
+
 def run(args) -> int:
     from ergosim.atomic import write_json  # noqa: PLC0415
-    from ergosim.posture import ANGLE_NAMES  # noqa: PLC0415
+    from ergosim.twin.plots import kwear_timeline  # noqa: PLC0415
     from ergosim.worker import replay  # noqa: PLC0415
 
     if not (math.isfinite(args.rate) and args.rate > 0):
         raise ConfigError(f"must be a positive number of Hz, got {args.rate:g}", where="--rate")
     params, worker = _kwear_params(args)
     path = Path(args.file)
-    recording = _load(path)
+    out = Path(args.out) if args.out else _DEFAULT_OUT / path.stem
+    if out.exists() and not out.is_dir():
+        raise ConfigError(f"{out} exists and is not a directory", where="--out")
+    if args.rrd is not None and Path(args.rrd).is_dir():
+        raise ConfigError(f"{args.rrd} is a directory; expected the path of the .rrd file to write",
+                          where="--rrd")
+    recording = _load(path, args.map)
     if args.rate > recording.rate_hz:
         raise ConfigError(f"ergonomics rate {args.rate:g} Hz is above the recording's frame rate "
                           f"{recording.rate_hz:g} Hz", where="--rate")
-    trace = replay(recording.array(ANGLE_NAMES), recording.rate_hz, params, rate=args.rate)
-    if trace.n == 0:
+    sides = ("right", "left") if args.side == "both" else (args.side,)
+    traces = {s: replay(side_angles(recording, s), recording.rate_hz, params, rate=args.rate) for s in sides}
+    first = traces[sides[0]]
+    if first.n == 0:
         raise RecordingError(f"the recording lasts {recording.n_frames / recording.rate_hz:.3g} s, shorter "
                              f"than one ergonomics tick ({1.0 / args.rate:.3g} s)", where=str(path))
-    out = Path(args.out) if args.out else _DEFAULT_OUT / path.stem
-    summary = replay_summary(trace, recording, params, worker)
+    summary = replay_summary(first, recording, params, worker)
+    summary["side"] = args.side
+    summary["by_side"] = {s: {k: v for k, v in replay_summary(t, recording, params, worker).items()
+                              if k in ("rula", "kwear")} for s, t in traces.items()}
+    names = {s: "ticks.csv" if len(sides) == 1 else f"ticks_{s}.csv" for s in sides}
     try:
-        write_ticks(out / "ticks.csv", trace)
+        for s, trace in traces.items():
+            write_ticks(out / names[s], trace)
+            kwear_timeline(out / f"kwear_timeline_{s}.png", trace.t, trace.v, _V_TH,
+                           f"KWear, {path.name}, {s} arm (RULA of that side)")
         write_json(out / "summary.json", summary)
     except OSError as err:
         raise ConfigError(f"cannot write the results: {err.strerror or err}", where=str(out)) from None
-    print("\n".join(summary_lines(summary)))
-    print(f"\nresults: {out.resolve()} (ticks.csv, summary.json)")
+    if args.rrd:
+        _record(args.rrd, traces, path.name)
+    lines = summary_lines(summary)
+    if len(sides) > 1:
+        lines.insert(2, f"{sides[0]} arm:")
+        for s in sides[1:]:
+            lines += [f"{s} arm:", *summary_lines({**summary, **summary["by_side"][s]})[2:]]
+    print("\n".join(lines))
+    files = ", ".join([*names.values(), "summary.json", *(f"kwear_timeline_{s}.png" for s in sides)])
+    print(f"\nresults: {out.resolve()} ({files})")
+    if args.rrd:
+        print(f"recording: {Path(args.rrd).resolve()}  (open it with: rerun {args.rrd})")
     return 0

@@ -1,4 +1,10 @@
-"""``ergosim run SCENARIO``: the paper's experiments end to end in the twin (Fig. 1, §7)."""
+"""``ergosim run SCENARIO``: the paper's experiments end to end in the twin (Fig. 1, §7).
+
+Exit status: 0 every repetition completed; 2 bad input (one line on stderr, nothing simulated); 3 every
+subject ran but at least one repetition was abandoned (no agent left able to finish the assembly; the
+summary, the printed text and ``run.json`` say which and why); 130 / 143 interrupted by SIGINT / SIGTERM
+(the finished subjects are written, marked incomplete).
+"""
 
 from __future__ import annotations
 
@@ -7,7 +13,7 @@ import os
 import sys
 from pathlib import Path
 
-from ergosim.errors import ConfigError
+from ergosim.errors import ConfigError, ErgosimError
 from ergosim.overrides import parse_assignments
 
 __all__ = ["add_parser", "run"]
@@ -26,10 +32,16 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument("--subjects", type=int, help="number of synthetic subjects (default: the scenario's)")
     p.add_argument("--reps", type=int, help="repetitions per subject and mode")
     p.add_argument("--mode", choices=mode_names(), help="run only this mode (default: the scenario's modes)")
-    p.add_argument("--seed", type=int, default=0, help="random seed (default 0); same seed, same results")
+    p.add_argument("--seed", type=int, default=0,
+                   help="random seed, an integer >= 0 (default 0); same seed, same results")
     p.add_argument("--jobs", type=int, help="parallel processes (default: all cores)")
     p.add_argument("--out", default=None, help="output directory (default results/<scenario>)")
-    p.add_argument("--rrd", metavar="FILE", help="save a rerun recording of the first subject's first mode")
+    p.add_argument("--rrd", metavar="FILE", help="save a rerun recording of one subject's run in one mode "
+                                                 "(--rrd-subject, --rrd-mode)")
+    p.add_argument("--rrd-subject", type=int, metavar="N",
+                   help="subject recorded by --rrd/--spawn/--connect, 0-based as in the CSVs (default 0)")
+    p.add_argument("--rrd-mode", choices=mode_names(), metavar="MODE",
+                   help="mode recorded by --rrd/--spawn/--connect (default: the first mode run)")
     p.add_argument("--spawn", action="store_true", help="open a rerun viewer and stream to it")
     p.add_argument("--connect", nargs="?", const="default", metavar="URL",
                    help="stream to a running rerun viewer (default URL if none given)")
@@ -44,17 +56,34 @@ def _scenario(args):
     from ergosim.twin.scenariofile import load_scenario  # noqa: PLC0415
 
     own = parse_assignments(args.assign)
-    counts = (("--subjects", "subjects", args.subjects), ("--reps", "repetitions", args.reps))
+    if args.seed < 0:
+        raise ConfigError(f"must be an integer >= 0, got {args.seed}", where="--seed")
+    counts = (("--subjects", "subjects", args.subjects), ("--reps", "repetitions", args.reps),
+              ("--mode", "modes", args.mode))
     for flag, field, value in counts:
         if value is not None:
-            if value < 1:
+            if field in own:  # two answers to one question: refuse rather than pick one silently
+                raise ConfigError(f"{flag} {value} and --set {field}={own[field]} both set {field}; give one",
+                                  where=flag)
+            if isinstance(value, int) and value < 1:
                 raise ConfigError(f"must be >= 1, got {value}", where=flag)
             own[field] = str(value)
-    if args.mode is not None:
-        own["modes"] = args.mode
     if args.jobs is not None and args.jobs < 1:
         raise ConfigError(f"must be >= 1, got {args.jobs}", where="--jobs")
-    return load_scenario(args.scenario, own)
+    scenario = load_scenario(args.scenario, own)
+    cfg = scenario.protocol
+    recording = args.rrd is not None or args.spawn or args.connect is not None
+    if (args.rrd_subject is not None or args.rrd_mode is not None) and not recording:
+        raise ConfigError("--rrd-subject/--rrd-mode choose what to record: give --rrd FILE, --spawn or "
+                          "--connect as well", where="--rrd-subject" if args.rrd_subject is not None
+                          else "--rrd-mode")
+    if args.rrd_subject is not None and not 0 <= args.rrd_subject < cfg.subjects:
+        raise ConfigError(f"must be a subject index in 0..{cfg.subjects - 1}, got {args.rrd_subject}",
+                          where="--rrd-subject")
+    if args.rrd_mode is not None and args.rrd_mode not in cfg.modes:
+        raise ConfigError(f"mode {args.rrd_mode!r} is not run; modes run: {', '.join(cfg.modes)}",
+                          where="--rrd-mode")
+    return scenario
 
 
 def _precheck(scenario) -> None:
@@ -66,27 +95,41 @@ def _precheck(scenario) -> None:
 
 
 def run(args) -> int:
-    from ergosim.twin.scenario_run import run_scenario  # noqa: PLC0415
+    from ergosim.twin.scenario_run import EXIT_ABANDONED, run_scenario  # noqa: PLC0415
     from ergosim.twin.summary_text import summary_text  # noqa: PLC0415
     from ergosim.viz import open_recording  # noqa: PLC0415
 
     scenario = _scenario(args)
     cfg = scenario.protocol
-    _precheck(scenario)
     out = Path(args.out) if args.out else Path("results") / scenario.name
+    if out.exists() and not out.is_dir():  # before a viewer is spawned; run_scenario checks the rest
+        raise ConfigError(f"{out} exists and is not a directory", where="--out")
+    _precheck(scenario)
     recorder = open_recording(rrd=args.rrd, spawn=args.spawn, connect=args.connect,
                               recording_name=f"ergosim {args.scenario} seed {args.seed}")
     committed = False
     try:
         result = run_scenario(scenario, seed=args.seed, out=out, jobs=args.jobs or os.cpu_count(),
-                              progress=not args.quiet, recorder=recorder)
+                              progress=not args.quiet, recorder=recorder,
+                              record_subject=args.rrd_subject or 0, record_mode=args.rrd_mode)
         committed = True
     finally:
-        recorder.close(commit=committed)
+        try:
+            recorder.close(commit=committed)
+        except ErgosimError as err:
+            if committed:  # the results are written: show them, then say what went wrong with the viewer
+                print(summary_text(result.summary, cfg))
+                print(f"\nresults: {out.resolve()}")
+            raise err from None
     print(summary_text(result.summary, cfg))
-    print(f"\nresults: {out.resolve()} (summary.json, allocations.csv, ticks.csv, *.png)")
+    print(f"\nresults: {out.resolve()} (run.json, summary.json, allocations.csv, failures.csv, ticks.csv, "
+          "kwear_state_*.json, *.png)")
     if args.rrd:
         print(f"recording: {Path(args.rrd).resolve()}  (open it with: rerun {args.rrd})")
     print(f"wall time {result.wall:.1f} s", file=sys.stderr)
+    if result.status == "abandoned":
+        n = result.summary.get("repetitions_abandoned", 0)
+        print(f"ergosim: {n} repetition(s) abandoned: the run is incomplete (exit status 3)", file=sys.stderr)
+        return EXIT_ABANDONED
     return 0
 

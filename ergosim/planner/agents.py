@@ -6,9 +6,14 @@ import math
 import re
 from dataclasses import dataclass
 
-__all__ = ["Agent", "Operation", "AGENT_KINDS", "check_name", "check_cost"]
+__all__ = ["Agent", "Operation", "AGENT_KINDS", "COST_MAX", "check_name", "check_cost"]
 
 AGENT_KINDS = ("human", "robot")
+
+COST_MAX = 1e100
+"""Largest hyper-arc cost. A plan's cost is a sum of hyper-arc costs, so costs near the float limit
+(1.8e308) would overflow to inf and make a feasible task look infeasible; 1e100 leaves room for any
+number of operations while being far above any risk-based cost (eq. 10-11 give at most p·(1 + Γ))."""
 
 # Part and agent names are plain identifiers, so that generated operation names ("A-B+C", "p1..p5+p6")
 # can use '-', '+' and '..' as separators without ambiguity.
@@ -28,6 +33,8 @@ def check_cost(value: object, what: str) -> str | None:
         return f"{what} must be a number, got {value!r}"
     if not math.isfinite(value) or value < 0:
         return f"{what} must be finite and >= 0, got {value!r}"
+    if value > COST_MAX:
+        return f"{what} must be <= {COST_MAX:g} (a plan sums its costs, which must stay finite), got {value}"
     return None
 
 

@@ -56,7 +56,8 @@ def node_costs(graph: AndOrGraph, config: np.ndarray, cost: np.ndarray) -> tuple
     for level in lay.levels:
         base = value[level.children].sum(axis=1)
         out = totals[level.lo : level.hi]
-        np.add(cost[level.lo : level.hi], base[level.op_of], out=out)
+        with np.errstate(over="ignore"):  # a sum past the float range is inf, reported by diagnose
+            np.add(cost[level.lo : level.hi], base[level.op_of], out=out)
         best = np.minimum.reduceat(out, level.starts)
         value[level.fathers] = np.minimum(value[level.fathers], best)
     return value, totals

@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ergosim.errors import ConfigError
+from ergosim.planner.agents import COST_MAX
 from ergosim.planner.validation import format_parts
 
 if TYPE_CHECKING:
@@ -86,8 +87,9 @@ def hyperarc_costs(
             if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
                 raise ConfigError(f"cost of {key!r} must be a number, got {value!r}", where="costs")
             number = float(value)
-            if not (math.isfinite(number) and number >= 0.0):
-                raise ConfigError(f"cost of {key!r} must be finite and >= 0, got {value!r}", where="costs")
+            if not (math.isfinite(number) and 0.0 <= number <= COST_MAX):
+                raise ConfigError(f"cost of {key!r} must be finite, >= 0 and <= {COST_MAX:g}, got {value!r}",
+                                  where="costs")
             cost[index] = number
     for key in pruned:
         cost[_key_indices(graph, key, "pruned")] = np.inf

@@ -64,6 +64,9 @@ def explain(
                 )
             return why, op.name, None
         blocked = [c for c in graph._op_children[usable[0]] if not np.isfinite(value[c])]
+        if not blocked:  # every child can be made and the hyper-arc is usable: the sum overflowed to inf
+            return (f"the cost of forming {format_parts(graph.node_parts(node))} overflows to inf; "
+                    "use smaller costs", graph.operations[usable[0]].name, None)
         node = blocked[0]
 
 

@@ -19,6 +19,7 @@ from ergosim.errors import ConfigError
 from ergosim.planner.agents import Agent, Operation
 from ergosim.planner.graph import AndOrGraph
 from ergosim.planner.liaisons import Liaison, generate_operations
+from ergosim.planner.limits import check_operation_count, generated_operations
 
 __all__ = ["generate_task", "parse_spec", "SHAPES"]
 
@@ -28,10 +29,11 @@ SHAPES = ("sequential", "scarce")
 def parse_spec(spec: str) -> tuple[str, int]:
     """``"sequential:20"`` -> ("sequential", 20); ConfigError for anything else."""
     shape, _, count = spec.partition(":")
-    if shape not in SHAPES or not count.isdigit() or int(count) < 2:
+    if shape not in SHAPES or not count.isdigit() or int(count) < 2 or len(count) > 12:
         raise ConfigError(
             f"expected sequential:N or scarce:N with N >= 2 parts, got {spec!r}", where="--generate"
         )
+    check_operation_count(generated_operations(shape, int(count)), f"--generate {spec}")
     return shape, int(count)
 
 

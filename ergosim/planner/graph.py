@@ -199,6 +199,7 @@ class AndOrGraph:
         planner: str = "fast",
         *,
         time_budget: float | None = None,
+        max_states: int | None = None,
     ) -> Plan:
         """Optimal plan from the configuration reached by ``done`` to the full assembly.
 
@@ -211,6 +212,8 @@ class AndOrGraph:
                 search over configurations). Both return an optimal plan.
             time_budget: seconds the ``paper`` search may take before raising
                 :class:`~ergosim.planner.paper_search.SearchBudgetExceeded` (default: unlimited).
+            max_states: configurations the ``paper`` search may create before a ConfigError (default
+                :data:`~ergosim.planner.limits.MAX_PAPER_STATES`).
 
         Raises:
             InfeasiblePlanError: ``"no feasible plan: <reason>"``.
@@ -223,7 +226,7 @@ class AndOrGraph:
         if planner == "fast":
             hyperarcs = bottom_up.solve(self, config, cost)
         else:
-            hyperarcs = paper_search.solve(self, config, cost, time_budget=time_budget)
+            hyperarcs = paper_search.solve(self, config, cost, time_budget=time_budget, max_states=max_states)
         return assemble_plan(self, hyperarcs, config, cost)
 
     def __repr__(self) -> str:

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 
 from ergosim.errors import TaskFileError
 from ergosim.planner.agents import Operation
+from ergosim.planner.limits import MAX_OPERATIONS, check_operation_count
 
 __all__ = ["Liaison", "generate_operations", "child_label", "precedence_masks", "liaison_groups"]
 
@@ -167,6 +168,7 @@ def generate_operations(
     explicit_children = explicit_children or {}
     root = (1 << len(parts)) - 1
     splits_of: dict[int, list[tuple[int, list[int]]]] = {}
+    made = 0  # operations generated so far, bounded by MAX_OPERATIONS
     stack, seen = [root], {root}
     while stack:
         father = stack.pop()
@@ -175,12 +177,15 @@ def generate_operations(
             inside = [k for k, (a, b) in enumerate(ends) if father & a and father & b]
             valid = []
             for s in _splits(father, adj):
+                if made + len(valid) >= MAX_OPERATIONS:
+                    check_operation_count(made + len(valid) + 1, where or "liaisons", TaskFileError)
                 cut = [k for k in inside if bool(s & ends[k][0]) != bool(s & ends[k][1])]
                 if constrained and not _respects(cut, inside, pred, succ):
                     continue
                 valid.append((s, cut))
                 following += [s, father & ~s]
             splits_of[father] = valid
+            made += len(valid)
         for child in following:
             if child not in seen:
                 seen.add(child)

@@ -22,8 +22,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ergosim.errors import InfeasiblePlanError
+from ergosim.errors import ConfigError, InfeasiblePlanError
 from ergosim.planner import bottom_up, diagnose
+from ergosim.planner.limits import MAX_PAPER_STATES
 
 if TYPE_CHECKING:
     from ergosim.planner.graph import AndOrGraph
@@ -76,14 +77,24 @@ def _successor_table(graph: AndOrGraph, config: np.ndarray, cost: np.ndarray) ->
 
 
 def solve(
-    graph: AndOrGraph, config: np.ndarray, cost: np.ndarray, *, time_budget: float | None = None
+    graph: AndOrGraph,
+    config: np.ndarray,
+    cost: np.ndarray,
+    *,
+    time_budget: float | None = None,
+    max_states: int | None = None,
 ) -> list[int]:
     """Hyper-arc indices of an optimal plan tree from Θ = ``config`` to the root (Algorithm 1).
+
+    ``max_states``: configurations the search may create (default :data:`MAX_PAPER_STATES`), its memory
+    budget.
 
     Raises:
         InfeasiblePlanError: OPEN ran empty before the goal was reached.
         SearchBudgetExceeded: the search took longer than ``time_budget`` seconds.
+        ConfigError: the search created more than ``max_states`` configurations.
     """
+    limit = MAX_PAPER_STATES if max_states is None else max_states
     deadline = None if time_budget is None else time.perf_counter() + time_budget
     succ = _successor_table(graph, config, cost)
     start = 1 << graph._root
@@ -104,6 +115,12 @@ def solve(
         popped += 1
         if deadline is not None and popped % _CHECK_EVERY == 0 and time.perf_counter() > deadline:
             raise SearchBudgetExceeded(f"paper search exceeded {time_budget} s after {popped} expansions")
+        if pushed > limit:
+            raise ConfigError(
+                f"the paper planner (Algorithm 1) created {pushed} configurations, more than its memory "
+                f"budget of {limit} (--max-states); plan this task with --planner fast",
+                where=graph.source,
+            )
         if state == goal:
             curr = state
             break

@@ -8,6 +8,7 @@ the file, the entry and what was expected.
 from __future__ import annotations
 
 import os
+import stat
 import tomllib
 from pathlib import Path
 from typing import Any
@@ -16,23 +17,40 @@ from ergosim.errors import InfeasiblePlanError, TaskFileError
 from ergosim.planner.agents import Agent, Operation, check_cost, check_name
 from ergosim.planner.graph import AndOrGraph
 from ergosim.planner.liaisons import Liaison, generate_operations, liaison_groups
+from ergosim.planner.limits import check_operation_count
 from ergosim.planner.validation import format_parts
 
-__all__ = ["load_task", "parse_task", "task_from_dict"]
+__all__ = ["load_task", "parse_task", "task_from_dict", "MAX_TASK_BYTES"]
 
 _TOP_KEYS = {"name", "description", "parts", "agents", "operations", "liaisons", "precedence"}
 _OP_KEYS = {"name", "action", "joins", "father", "cost", "agents"}
 _LIAISON_KEYS = {"parts", "action", "cost", "agents"}
 
 
+MAX_TASK_BYTES = 64 << 20
+"""Largest task file read [bytes]; a task at the operation limit (MAX_OPERATIONS) is far smaller."""
+
+
 def load_task(path: str | os.PathLike[str]) -> AndOrGraph:
-    """Read and build the task file at ``path``."""
+    """Read and build the task file at ``path`` (a regular file of at most :data:`MAX_TASK_BYTES`)."""
+    p = Path(path)
     try:
-        text = Path(path).read_text(encoding="utf-8")
+        st = p.stat()
+        if not stat.S_ISREG(st.st_mode):
+            what = "a directory" if stat.S_ISDIR(st.st_mode) else "not a regular file (a device or a pipe?)"
+            raise TaskFileError(f"{what}; expected a task file (.toml)", where=str(path))
+        if st.st_size > MAX_TASK_BYTES:
+            raise TaskFileError(f"{st.st_size} bytes, more than the limit of {MAX_TASK_BYTES} "
+                                "(ergosim.planner.taskfile.MAX_TASK_BYTES)", where=str(path))
+        with p.open("rb") as f:  # read at most the limit, should the file grow meanwhile
+            data = f.read(MAX_TASK_BYTES + 1)
+        text = data[:MAX_TASK_BYTES].decode("utf-8")
     except FileNotFoundError:
         raise TaskFileError("no such task file", where=str(path)) from None
     except (OSError, UnicodeDecodeError) as err:
         raise TaskFileError(f"cannot read the task file: {err}", where=str(path)) from None
+    if len(data) > MAX_TASK_BYTES:
+        raise TaskFileError(f"more than the limit of {MAX_TASK_BYTES} bytes", where=str(path))
     return parse_task(text, source=str(path))
 
 
@@ -48,6 +66,14 @@ def parse_task(text: str, source: str = "<task>") -> AndOrGraph:
 def task_from_dict(doc: dict[str, Any], source: str = "<task>") -> AndOrGraph:
     """Build the AND/OR graph of an already parsed task document (e.g. a scenario's inline ``[task]``)."""
     return _Builder(doc, source).build()
+
+
+def _few(items, n: int = 12) -> str:
+    """A list for a message, cut after ``n`` items (a task may have thousands of parts)."""
+    items = list(items)
+    if len(items) <= n:
+        return str(items)
+    return f"[{', '.join(map(repr, items[:n]))}, ... ({len(items)} in all)]"
 
 
 def _fail(what: str, where: str) -> TaskFileError:
@@ -108,18 +134,23 @@ class _Builder:
         )
 
     def mask(self, parts: tuple[str, ...]) -> int:
-        return sum(1 << self.parts.index(p) for p in parts)
+        index = self.part_index
+        return sum(1 << index[p] for p in parts)
 
     def read_parts(self) -> list[str]:
         parts = self.doc.get("parts")
         if not isinstance(parts, list) or not parts:
             raise _fail(f"parts must be a non-empty list of part names, got {parts!r}", self.at("parts"))
+        seen: set[str] = set()
         for i, part in enumerate(parts):
             problem = check_name(part, "a part name")
             if problem:
                 raise _fail(problem, self.at(f"parts[{i}]"))
-            if part in parts[:i]:
+            if part in seen:
                 raise _fail(f"duplicate part name {part!r}", self.at(f"parts[{i}]"))
+            seen.add(part)
+        # part -> position: every later lookup is a dict access, so reading stays linear in the file's size
+        self.part_index = {p: i for i, p in enumerate(parts)}
         return parts
 
     def read_agents(self) -> list[Agent]:
@@ -149,10 +180,11 @@ class _Builder:
     def read_part_list(self, value: Any, what: str, at: str) -> tuple[str, ...]:
         if not isinstance(value, list) or not all(isinstance(p, str) for p in value):
             raise _fail(f"{what} must be a list of part names, got {value!r}", at)
+        index = self.part_index
         for part in value:
-            if part not in self.parts:
-                raise _fail(f"unknown part {part!r} in {what}; parts are {self.parts}", at)
-        return tuple(sorted(value, key=self.parts.index))
+            if part not in index:
+                raise _fail(f"unknown part {part!r} in {what}; parts are {_few(self.parts)}", at)
+        return tuple(sorted(value, key=index.__getitem__))
 
     def read_agent_costs(self, entry: dict[str, Any], at: str) -> tuple[tuple[str, ...], tuple[float, ...]]:
         """The allowed agents (default: all) and their costs (fixed ``cost`` entries or agent defaults)."""
@@ -188,7 +220,9 @@ class _Builder:
 
     def read_operations(self) -> tuple[list[Operation], dict[str, str]]:
         ops, origins = [], {}
-        for i, entry in enumerate(self.entries("operations")):
+        entries = self.entries("operations")
+        check_operation_count(len(entries), self.at("operations"), TaskFileError)
+        for i, entry in enumerate(entries):
             name = entry.get("name")
             at = self.at(f"operations[{i}]" + (f" {name!r}" if isinstance(name, str) else ""))
             extra = sorted(set(entry) - _OP_KEYS)
@@ -202,7 +236,7 @@ class _Builder:
             if not isinstance(joins, list):
                 raise _fail(f"joins must be a list of children (lists of parts), got {joins!r}", at)
             children = tuple(self.read_part_list(c, f"joins[{k}]", at) for k, c in enumerate(joins))
-            union = tuple(p for p in self.parts if any(p in c for c in children))
+            union = tuple(sorted({p for c in children for p in c}, key=self.part_index.__getitem__))
             father = self.read_part_list(entry["father"], "father", at) if "father" in entry else union
             agents, costs = self.read_agent_costs(entry, at)
             action = entry.get("action", name)
@@ -270,7 +304,8 @@ class _Builder:
                     "no liaison or operation includes it",
                     where=self.at(f"parts[{i}] {part!r}"),
                 )
-        if not liaisons or any(op.father == tuple(self.parts) for op in ops):
+        everything = tuple(self.parts)
+        if not liaisons or any(op.father == everything for op in ops):
             return
         groups = liaison_groups(self.parts, liaisons)
         if len(groups) > 1:

@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from ergosim.errors import ConfigError
+from ergosim.human.anthropometry import SEGMENT_SCALES
 from ergosim.scenes.cellspec import (
     ACTION_KINDS,
     SHAPES,
@@ -193,7 +194,7 @@ def apply_cell_overrides(doc: Mapping[str, Any], overrides: Mapping[str, Any], w
             *head, last = path.split(".")
             for k in head:
                 node = node.setdefault(k, {})
-            node[last] = _coerce(value, _kind_of(out, path), f"{where} {key}") if isinstance(value, str) \
+            node[last] = _coerce(value, _kind_of(out, path), key, where) if isinstance(value, str) \
                 else value
     return out
 
@@ -211,13 +212,39 @@ def _kind_of(doc: Mapping[str, Any], path: str) -> Any:
     return schemas[section][key]
 
 
-def _coerce(raw: str, kind: Any, where: str) -> Any:
-    if kind == "pairs":
-        return raw
-    if kind == "axis":
-        return raw if raw in _AXES else list(_value(raw, ("floats", 3), where))
-    v = _value(raw, kind, where)
+def _coerce(raw: str, kind: Any, key: str, where: str) -> Any:
+    """A ``--set`` string as the TOML value of a field of ``kind``; errors name ``key='raw'``."""
+    said = f"{key}={raw!r}"
+    if kind == "axis" and raw.strip() in _AXES:
+        return raw.strip()
+    n = 3 if kind == "axis" else kind[1] if isinstance(kind, tuple) else None
+    if kind in ("pairs", "axis") or isinstance(kind, tuple):
+        items = [s.strip() for s in raw.split(",")] if raw.strip() else []
+        if any(not s for s in items):
+            raise ConfigError(f"{said} has an empty value between commas", where=where)
+        if kind == "pairs":
+            pairs = [s.split(":") for s in items]
+            if not pairs or any(len(p) != 2 or not p[0].strip() for p in pairs):
+                raise ConfigError(f"{said}: expected name:value pairs separated by commas, e.g. "
+                                  f"{key}=upper_arm:1.1,forearm:0.95", where=where)
+            return [[name.strip(), _number(v, said, where)] for name, v in pairs]
+        if n is not None and len(items) != n:
+            got = len(items)
+            raise ConfigError(f"{said} has {got} value{'s' if got != 1 else ''}, expected {n} "
+                              f"(comma-separated, e.g. {key}={','.join(['0'] * n)})", where=where)
+        return [_number(v, said, where) for v in items]
+    v = _value(raw, kind, f"{where} {key}")
     return list(v) if isinstance(v, tuple) else v
+
+
+def _number(text: str, said: str, where: str) -> float:
+    try:
+        v = float(text)
+    except ValueError:
+        raise ConfigError(f"{said}: {text.strip()!r} is not a number", where=where) from None
+    if not math.isfinite(v):
+        raise ConfigError(f"{said}: {text.strip()!r} is not a finite number", where=where)
+    return v
 
 
 # -- parsing ---------------------------------------------------------------------------------------------
@@ -342,6 +369,11 @@ def _check(spec: CellSpec, at) -> None:
          f"stature must be in [1.4, 2.1] m, got {spec.worker.stature}")
     need(spec.worker.hand in ("right", "left"), "worker.hand",
          f"must be right or left, got {spec.worker.hand!r}")
+    for segment, factor in spec.worker.human_scale:
+        need(segment in SEGMENT_SCALES, "worker.human_scale",
+             f"unknown segment scale {segment!r}; expected one of {', '.join(SEGMENT_SCALES)}")
+        need(0.7 <= factor <= 1.3, "worker.human_scale",
+             f"segment scale {segment}={factor} is outside 0.7..1.3")
     names = [f.name for f in spec.furniture] + [p.name for p in spec.parts] + [r.name for r in spec.robots]
     dup = {n for n in names if names.count(n) > 1}
     need(not dup, "furniture", f"names must be unique across furniture, parts and robots: {sorted(dup)}")

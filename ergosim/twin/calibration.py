@@ -85,7 +85,8 @@ class SceneCalibration:
     @classmethod
     def for_subject(cls, scene, subject: Subject, rng: np.random.Generator, *, mocap_rate: float,
                     ergonomics_rate: float, actions: Sequence[str] | None = None, dropout_rate: float = 0.0,
-                    noise: bool = True, scene_overrides: Mapping[str, Any] | None = None) -> SceneCalibration:
+                    noise: bool | float = True,
+                    scene_overrides: Mapping[str, Any] | None = None) -> SceneCalibration:
         """The recorder for ``subject`` in workcell ``scene`` (a name or file, built for the subject's body as
         the twin builds it, ``scene_overrides`` winning; or an already built :class:`Workcell`), its mocap
         stream drawing from ``rng``. ``actions``: the order of a pass (default: the scene's)."""

@@ -20,7 +20,7 @@ import numpy as np  # noqa: E402
 from ergosim.atomic import write_bytes  # noqa: E402
 from ergosim.posture import KWEAR_JOINTS  # noqa: E402
 
-__all__ = ["write_plots", "save_figure"]
+__all__ = ["write_plots", "save_figure", "kwear_timeline"]
 
 COLOURS = {"shoulder": "#1f77b4", "elbow": "#ff7f0e", "wrist": "#2ca02c", "trunk": "#d62728",
            "neck": "#9467bd"}
@@ -65,19 +65,35 @@ def _timeline(out: Path, mode: str, run, v_th: float) -> None:
     save_figure(fig, out / f"kwear_timeline_{mode}.png")
 
 
+def kwear_timeline(path: Path, t: np.ndarray, v: np.ndarray, v_th: float, title: str) -> None:
+    """KWear per joint over time with the V_th line, as ``kwear_timeline_<mode>.png`` of a run: ``t`` (n,)
+    [s], ``v`` (n, 5) in KWEAR_JOINTS order."""
+    fig, ax = plt.subplots(figsize=(8.0, 3.2))
+    for i, j in enumerate(KWEAR_JOINTS):
+        ax.plot(t, v[:, i], label=j, color=COLOURS[j], lw=1)
+    ax.axhline(v_th, color="k", ls="--", lw=0.8, label="V_th")
+    ax.set(title=title, xlabel="time [s]", ylabel="V")
+    ax.set_ylim(0, 1)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7, ncol=6, loc="upper left")
+    fig.tight_layout()
+    save_figure(fig, path)
+
+
 def _histogram(out: Path, results, modes) -> None:
     actions = sorted({a.action for r in results for m in modes if m in r.runs for a in r.runs[m].allocations
-                      if a.had_choice})
+                      if a.done and a.allocatable})
     if not actions:
         return
     fig, ax = plt.subplots(figsize=(5.5, 3.2))
     width = 0.8 / max(len(modes), 1)
     for k, mode in enumerate(modes):
-        allocs = [a for r in results if mode in r.runs for a in r.runs[mode].allocations if a.had_choice]
+        allocs = [a for r in results if mode in r.runs for a in r.runs[mode].allocations
+                  if a.done and a.allocatable]  # completed actions, as robot_share in summary.json
         share = [np.mean([a.agent != "human" for a in allocs if a.action == x] or [0.0]) for x in actions]
         ax.bar(np.arange(len(actions)) + k * width, np.array(share) * 100, width, label=mode)
     ax.set_xticks(np.arange(len(actions)) + width * (len(modes) - 1) / 2, actions)
-    ax.set(ylabel="allocated to the robot [%]", title="Allocation per action", ylim=(0, 100))
+    ax.set(ylabel="completed by the robot [%]", title="Allocation per action", ylim=(0, 100))
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3, axis="y")
     fig.tight_layout()

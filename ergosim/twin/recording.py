@@ -34,3 +34,5 @@ def record_run(recorder: TwinRecorder, model, run: SubjectRun, v_th: float, part
                            r[:, _GRAND], run.ticks.kwear[sel])
     for d in run.decisions:
         recorder.log_decision(d.time, d.repetition, d.v_now, d.v_hat, d.costs, (d.action, d.agent), d.reason)
+    for f in run.failures:  # failed attempts and abandoned repetitions, beside the decisions
+        recorder.log_event(f.time, f.repetition, f"{f.status}: {f.message}", level="WARN")

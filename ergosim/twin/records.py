@@ -14,7 +14,7 @@ import numpy as np
 from ergosim.ergonomics.rula import RULA_PARTS
 from ergosim.posture import ANGLE_NAMES, KWEAR_JOINTS
 
-__all__ = ["Allocation", "TickLog", "SubjectRun", "TICK_COLUMNS"]
+__all__ = ["Allocation", "Failure", "RepetitionOutcome", "TickLog", "SubjectRun", "TICK_COLUMNS"]
 
 
 TICK_COLUMNS: tuple[str, ...] = (
@@ -29,7 +29,17 @@ TICK_COLUMNS: tuple[str, ...] = (
 
 @dataclasses.dataclass(frozen=True)
 class Allocation:
-    """One executed action: who did it, what the planner saw, and when (sim time [s])."""
+    """One attempt at an action: who did it, what the planner saw, when (sim time [s]) and how it ended.
+
+    ``status``: ``done`` (the scene saw the action completed), ``failed:<reason>`` (e.g.
+    ``failed:unreachable``; the reason is the robot skill's or the worker's status) or ``pruned`` (a row
+    written when a repetition is abandoned, for an action that every agent allowed to do it failed at;
+    ``agent`` is then empty and the costs NaN). ``attempt``: 1 for the first attempt at ``action`` in
+    this repetition, 2 for the next, whichever agent. ``forced``: the agent's name when the task and the
+    mode let more than one agent do ``action`` but failures earlier in the repetition left only this one,
+    else empty. ``allocatable``: the task lets more than one agent do ``action`` (the denominator of
+    ``robot_share``).
+    """
 
     subject: int
     mode: str
@@ -42,7 +52,51 @@ class Allocation:
     t_start: float
     t_end: float
     had_choice: bool
-    status: str = "ok"
+    status: str = "done"
+    attempt: int = 1
+    forced: str = ""
+    allocatable: bool = True
+
+    @property
+    def done(self) -> bool:
+        return self.status == "done"
+
+
+@dataclasses.dataclass(frozen=True)
+class Failure:
+    """One failed attempt (or an abandoned repetition, ``status`` ``abandoned``, ``action`` and ``agent``
+    empty) at sim time ``time`` [s]; ``message`` says what went wrong, in words."""
+
+    time: float
+    subject: int
+    mode: str
+    repetition: int
+    action: str
+    agent: str
+    status: str
+    message: str
+
+    def __str__(self) -> str:
+        return self.message
+
+
+@dataclasses.dataclass(frozen=True)
+class RepetitionOutcome:
+    """How one repetition ended: ``completed``, ``abandoned`` (no agent left able to finish the assembly;
+    ``reason`` says why) or ``not_run`` (an earlier repetition of the run was abandoned). Times [s]."""
+
+    subject: int
+    mode: str
+    repetition: int
+    outcome: str
+    reason: str = ""
+    t_start: float = math.nan
+    t_end: float = math.nan
+
+    def to_dict(self) -> dict:
+        finite = math.isfinite(self.t_start) and math.isfinite(self.t_end)
+        return {"subject": self.subject, "repetition": self.repetition, "outcome": self.outcome,
+                "reason": self.reason, "duration_s": (self.t_end - self.t_start) if finite else None}
 
 
 class TickLog:
@@ -87,7 +141,10 @@ class SubjectRun:
     takt_overruns: int
     dt_tick: float
     v_th: float
-    failures: list[str] = dataclasses.field(default_factory=list)
+    failures: list[Failure] = dataclasses.field(default_factory=list)
+    """Every failed attempt and abandoned repetition, in time order."""
+    outcomes: list[RepetitionOutcome] = dataclasses.field(default_factory=list)
+    """One per repetition of the schedule, in order."""
     calibration_eta: dict[str, int] = dataclasses.field(default_factory=dict)
     decisions: list = dataclasses.field(default_factory=list)
     """The allocator's decisions (ergosim.twin.allocator.Decision), in order."""

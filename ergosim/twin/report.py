@@ -16,40 +16,98 @@ import numpy as np
 from scipy import stats
 
 from ergosim.atomic import atomic_open, write_json
-from ergosim.twin.records import TICK_COLUMNS, Allocation, SubjectRun
+from ergosim.twin.records import TICK_COLUMNS, Allocation, Failure, SubjectRun
 
 __all__ = [
     "summarise",
+    "allocation_rows",
     "wilcoxon_between",
     "allocation_table",
     "write_allocations",
+    "write_failures",
     "write_ticks",
     "write_summary",
+    "ALLOCATION_COLUMNS",
+    "FAILURE_COLUMNS",
 ]
 
 ALLOCATION_COLUMNS = (
     "subject", "mode", "repetition", "order", "action", "agent",
-    "human_cost", "robot_cost", "t_start", "t_end",
+    "human_cost", "robot_cost", "t_start", "t_end", "status", "attempt", "forced", "allocatable",
 )
+"""Columns of ``allocations.csv``: one row per attempt (see :class:`~ergosim.twin.records.Allocation`)."""
+
+FAILURE_COLUMNS = ("time", "subject", "mode", "repetition", "action", "agent", "status", "message")
+"""Columns of ``failures.csv``: one row per failed attempt or abandoned repetition."""
 
 
 def _finite(x: float) -> float | None:
     return float(x) if math.isfinite(x) else None
 
 
-def _mode_summary(runs: Sequence[SubjectRun]) -> dict:
-    allocs = [a for r in runs for a in r.allocations if a.had_choice]
-    robot = [a for a in allocs if a.agent != "human"]
-    by_action: dict[str, float] = {}
-    for action in sorted({a.action for a in allocs}):
-        chosen = [a for a in allocs if a.action == action]
-        by_action[action] = sum(a.agent != "human" for a in chosen) / len(chosen)
+def _is_robot(a: Allocation) -> bool:
+    return a.agent not in ("human", "")
+
+
+def _share(rows: Sequence[Allocation]) -> tuple[int, int, float, dict[str, float]]:
+    """(robot rows, rows, robot share, robot share per action) of ``rows``."""
+    robot = sum(_is_robot(a) for a in rows)
+    by_action = {}
+    for action in sorted({a.action for a in rows}):
+        of = [a for a in rows if a.action == action]
+        by_action[action] = sum(_is_robot(a) for a in of) / len(of)
+    return robot, len(rows), robot / len(rows) if rows else 0.0, by_action
+
+
+def _cell(rows: Sequence[Allocation]) -> str:
+    """One action in one repetition: H / R for who completed it, ``*`` forced, ``!`` after a failed attempt,
+    ``-`` not done, ``x`` abandoned with every agent pruned."""
+    done = [a for a in rows if a.done]
+    mark = "x" if any(a.status == "pruned" for a in rows) else "-"
+    if done:
+        mark = ("H" if done[-1].agent == "human" else "R") + ("*" if done[-1].forced else "")
+    return mark + ("!" if any(a.status.startswith("failed:") for a in rows) else "")
+
+
+def allocation_rows(runs: Sequence[SubjectRun], actions: Sequence[str]) -> list[dict]:
+    """Per subject and repetition: ``{"subject", "repetition", "outcome", "cells": {action: cell}}`` with
+    the cells of :func:`_cell`, for every repetition of the schedule (ones not run have "-" cells)."""
+    out = []
+    for run in sorted(runs, key=lambda r: r.subject):
+        outcomes = {o.repetition: o.outcome for o in run.outcomes}
+        for rep in sorted(outcomes or {a.repetition for a in run.allocations}):
+            of = [a for a in run.allocations if a.repetition == rep]
+            out.append({"subject": run.subject, "repetition": rep, "outcome": outcomes.get(rep, ""),
+                        "cells": {x: _cell([a for a in of if a.action == x]) for x in actions}})
+    return out
+
+
+def _mode_summary(runs: Sequence[SubjectRun], actions: Sequence[str] = ()) -> dict:
+    every = [a for r in runs for a in r.allocations]
+    # robot_share: completed actions only, whoever could be chosen (a forced robot action counts, a failed
+    # robot attempt does not); robot_share_chosen: every decision where both agents could be chosen.
+    completed = [a for a in every if a.done and a.allocatable]
+    robot, n, share, by_action = _share(completed)
+    chosen_robot, chosen_n, chosen_share, chosen_by_action = _share([a for a in every if a.had_choice])
+    failures = [f for r in runs for f in r.failures]
+    outcomes = [o for r in sorted(runs, key=lambda r: r.subject) for o in r.outcomes]
     ordered = sorted(runs, key=lambda r: r.subject)
     return {
-        "actions": len(allocs),
-        "robot_actions": len(robot),
-        "robot_share": len(robot) / len(allocs) if allocs else 0.0,
+        "actions": n,
+        "robot_actions": robot,
+        "robot_share": share,
         "robot_share_by_action": by_action,
+        "choices": chosen_n,
+        "robot_choices": chosen_robot,
+        "robot_share_chosen": chosen_share,
+        "robot_share_chosen_by_action": chosen_by_action,
+        "forced_robot_actions": sum(bool(a.forced) and _is_robot(a) for a in every),
+        "forced_human_actions": sum(a.forced == "human" for a in every),
+        "attempts": len([a for a in every if a.status != "pruned"]),
+        "failed_attempts": sum(a.status.startswith("failed:") for a in every),
+        "repetitions": [o.to_dict() for o in outcomes],
+        "repetitions_abandoned": sum(o.outcome == "abandoned" for o in outcomes),
+        "repetitions_not_run": sum(o.outcome == "not_run" for o in outcomes),
         "repetitions_completed": sum(r.repetitions_completed for r in runs),
         "takt_overruns": sum(r.takt_overruns for r in runs),
         "kwear_integral_by_subject": [r.kwear_integral for r in ordered],
@@ -57,7 +115,9 @@ def _mode_summary(runs: Sequence[SubjectRun]) -> dict:
         "kwear_mean_by_subject": [r.kwear_mean for r in ordered],
         "time_above_vth_by_subject": [r.time_above_threshold for r in ordered],
         "duration_by_subject": [r.duration for r in ordered],
-        "robot_failures": sum(len(r.failures) for r in runs),
+        "allocation_rows": allocation_rows(runs, actions),
+        "robot_failures": sum(f.agent not in ("human", "") for f in failures),
+        "worker_failures": sum(f.agent == "human" for f in failures),
     }
 
 
@@ -79,7 +139,7 @@ def allocation_table(runs: Sequence[SubjectRun], actions: Sequence[str]) -> list
         reps = sorted({a.repetition for a in run.allocations})
         for rep in reps:
             row = {a.action: "H" if a.agent == "human" else "R"
-                   for a in run.allocations if a.repetition == rep}
+                   for a in run.allocations if a.repetition == rep and a.done}
             table.append([row.get(action, "-") for action in actions])
     return table
 
@@ -90,7 +150,8 @@ def summarise(scenario: str, seed: int, runs_by_mode: dict[str, list[SubjectRun]
         "scenario": scenario,
         "seed": seed,
         "complete": complete,
-        "modes": {mode: _mode_summary(runs) for mode, runs in runs_by_mode.items()},
+        "modes": {mode: _mode_summary(runs, actions) for mode, runs in runs_by_mode.items()},
+        "action_labels": list(actions),
     }
     if "hrc" in runs_by_mode and "h-only" in runs_by_mode:
         # Paired by subject, hrc against h-only (paper §7.2). The headline metric is the KWear integral over
@@ -124,6 +185,7 @@ def write_summary(path: Path, summary: dict) -> None:
 
 
 def write_allocations(path: Path, allocations: Sequence[Allocation]) -> None:
+    """allocations.csv: :data:`ALLOCATION_COLUMNS`, one row per attempt, atomically."""
     with atomic_open(path, "w") as f:
         writer = csv.writer(f, lineterminator="\n")
         writer.writerow(ALLOCATION_COLUMNS)
@@ -133,7 +195,18 @@ def write_allocations(path: Path, allocations: Sequence[Allocation]) -> None:
                 row["subject"], row["mode"], row["repetition"], row["order"], row["action"], row["agent"],
                 repr(float(row["human_cost"])), repr(float(row["robot_cost"])),
                 f"{row['t_start']:.4f}", f"{row['t_end']:.4f}",
+                row["status"], row["attempt"], row["forced"], int(row["allocatable"]),
             ])
+
+
+def write_failures(path: Path, failures: Sequence[Failure]) -> None:
+    """failures.csv: :data:`FAILURE_COLUMNS`, one row per failed attempt or abandoned repetition."""
+    with atomic_open(path, "w") as f:
+        writer = csv.writer(f, lineterminator="\n")
+        writer.writerow(FAILURE_COLUMNS)
+        for x in failures:
+            writer.writerow([f"{x.time:.4f}", x.subject, x.mode, x.repetition, x.action, x.agent, x.status,
+                             x.message])
 
 
 def write_ticks(path: Path, runs: Sequence[SubjectRun]) -> None:

@@ -72,7 +72,7 @@ def build_rig(scenario: Scenario, subject: Subject, rng: np.random.Generator, re
     cell = subject_cell(scenario, subject)
     subject = _subject_in(cell, subject)
     track = WorkerTrack.for_subject(subject, rng, rate=cfg.mocap_rate, dropout_rate=cfg.dropout_rate,
-                                    noise=cfg.noise_scale > 0)
+                                    noise=cfg.noise_scale)
     kwear = KWearIndex(subject.kwear_params(), alphas or {}, online_weight=cfg.online_alpha_weight)
     plant = Plant(cell, track, kwear, mocap_rate=cfg.mocap_rate,
                   ergonomics_rate=cfg.ergonomics_rate, physics_dt=cfg.physics_dt, record_bodies=record_bodies)
@@ -88,7 +88,7 @@ def _calibrate(scenario: Scenario, subject: Subject, rng: np.random.Generator):
     subject = _subject_in(cell, subject)
     cal = SceneCalibration.for_subject(cell, subject, rng, mocap_rate=cfg.mocap_rate,
                                        ergonomics_rate=cfg.ergonomics_rate, actions=scenario.task().actions,
-                                       dropout_rate=cfg.dropout_rate, noise=cfg.noise_scale > 0)
+                                       dropout_rate=cfg.dropout_rate, noise=cfg.noise_scale)
     params = subject.kwear_params()
     result = cal.run(params, eta0=cfg.eta0, eta_max=cfg.eta_max, v_des=cfg.v_des)
     traces = {}

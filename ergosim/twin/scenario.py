@@ -17,7 +17,14 @@ from typing import Literal
 from ergosim.errors import ConfigError
 from ergosim.twin.modes import mode_names
 
-__all__ = ["ScenarioConfig"]
+__all__ = ["ScenarioConfig", "EE_SPEED_MAX", "ETA_MAX_LIMIT"]
+
+EE_SPEED_MAX = 1.7
+"""Largest end-effector speed [m/s]: the Franka Emika Panda's Cartesian translation limit (Franka Control
+Interface documentation, "Limits for Panda": 1.7 m/s)."""
+ETA_MAX_LIMIT = 50
+"""Largest eta_max (calibration passes, §5). Assumed: each pass performs every action once (about a minute
+of simulated work), so 50 passes already take minutes of wall time per subject; the paper's η stay < 10."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -45,7 +52,7 @@ class ScenarioConfig:
     physics_dt: float = 1.0 / 240.0
     """Nominal physics step [s]; the loop uses mocap period / round(mocap period / physics_dt)."""
     ee_speed: float = 0.05
-    """Robot end-effector speed [m/s]; the paper's conservative 0.05 m/s."""
+    """Robot end-effector speed [m/s]; the paper's conservative 0.05 m/s, at most EE_SPEED_MAX."""
     eta0: int = 2
     eta_max: int = 10
     v_des: float = 1e-3
@@ -53,9 +60,9 @@ class ScenarioConfig:
     online_alpha_weight: float = 0.0
     """Weight of the latest execution in the online α average (§5); 0 keeps the calibrated α."""
     noise_scale: float = 1.0
+    """Multiplier of each subject's sensor noise (drifting bias and white noise): 0 none, 1 the subject's."""
     dropout_rate: float = 0.0
     planner: Literal["fast", "paper"] = "fast"
-    fixed_sequence: bool = False
 
     def validate(self, where: str = "scenario") -> None:
         def need(ok: bool, msg: str) -> None:
@@ -77,8 +84,12 @@ class ScenarioConfig:
              f"({self.ergonomics_rate} Hz)")
         need(0 < self.physics_dt <= 1 / self.mocap_rate,
              f"physics_dt must be in (0, 1/mocap_rate], got {self.physics_dt}")
-        need(self.ee_speed > 0, f"ee_speed must be > 0 m/s, got {self.ee_speed}")
+        need(0 < self.ee_speed <= EE_SPEED_MAX,
+             f"ee_speed must be in (0, {EE_SPEED_MAX}] m/s (the Panda's Cartesian limit), "
+             f"got {self.ee_speed}")
         need(2 <= self.eta0 <= self.eta_max, f"need 2 <= eta0 <= eta_max, got {self.eta0}, {self.eta_max}")
+        need(self.eta_max <= ETA_MAX_LIMIT, f"eta_max must be <= {ETA_MAX_LIMIT} calibration passes, "
+             f"got {self.eta_max}")
         need(self.v_des > 0, f"v_des must be > 0, got {self.v_des}")
         need(0 <= self.online_alpha_weight <= 1, "online_alpha_weight must be in [0, 1]")
         need(self.noise_scale >= 0, "noise_scale must be >= 0")

@@ -1,9 +1,11 @@
 """Run a whole scenario: subjects in parallel processes, results written atomically as they arrive.
 
 Every subject is an independent job seeded by ``(seed, subject)``, so ``--jobs`` changes the wall time,
-never the results. After each finished subject ``summary.json`` and ``allocations.csv`` are rewritten
-(atomically); ``ticks.csv`` and the plots are written at the end. If the run is interrupted, everything
-finished so far is written with ``"complete": false``.
+never the results. The run owns its folder (:mod:`ergosim.twin.run_folder`): ``run.json`` is written before
+the first tick. After each finished subject ``summary.json``, ``allocations.csv`` and ``failures.csv`` are
+rewritten (atomically); ``ticks.csv``, the KWear state files and the plots are written at the end. If the
+run is interrupted (Ctrl-C or SIGTERM) or fails, everything finished so far is written with
+``"complete": false``; a run in which a repetition was abandoned is ``"complete": false`` too.
 """
 
 from __future__ import annotations
@@ -14,26 +16,37 @@ import os
 import time
 from pathlib import Path
 
+from ergosim.atomic import write_json
+from ergosim.twin.interrupt import Interrupted, interrupt_on_signals, quiet_worker, signals_ignored, stop_pool
+from ergosim.twin.kwear_state import state_document
 from ergosim.twin.plots import write_plots
 from ergosim.twin.progress import Progress
 from ergosim.twin.recording import record_run
-from ergosim.twin.report import summarise, write_allocations, write_summary, write_ticks
+from ergosim.twin.report import summarise, write_allocations, write_failures, write_summary, write_ticks
+from ergosim.twin.run_folder import RunFolder
 from ergosim.twin.runner import SubjectResult, run_subject, subject_cell
 from ergosim.twin.scenario import ScenarioConfig
 from ergosim.twin.scenariofile import Scenario
 from ergosim.worker.subjects import make_subjects
 
-__all__ = ["run_scenario", "ScenarioResult"]
+__all__ = ["run_scenario", "ScenarioResult", "EXIT_ABANDONED"]
+
+EXIT_ABANDONED = 3
+"""Exit status of ``ergosim run`` when every subject finished but a repetition was abandoned."""
 
 
 class ScenarioResult:
-    """Subject results in subject order, the summary dict, and where the files are."""
+    """Subject results in subject order, the summary dict, and where the files are.
 
-    def __init__(self, results: list[SubjectResult], summary: dict, out: Path, wall: float) -> None:
+    ``status``: ``complete`` or ``abandoned`` (see :mod:`ergosim.twin.run_folder`)."""
+
+    def __init__(self, results: list[SubjectResult], summary: dict, out: Path, wall: float,
+                 status: str = "complete") -> None:
         self.results = results
         self.summary = summary
         self.out = out
         self.wall = wall
+        self.status = status
 
 
 def _job(args) -> SubjectResult:
@@ -42,7 +55,7 @@ def _job(args) -> SubjectResult:
 
 
 def _write(out: Path, name: str, seed: int, cfg: ScenarioConfig, results: list[SubjectResult],
-           complete: bool, final: bool) -> dict:
+           complete: bool, final: bool, status: str = "running") -> dict:
     results = sorted(results, key=lambda r: r.subject)
     modes = {m: [r.runs[m] for r in results if m in r.runs] for m in cfg.modes}
     extra = {
@@ -56,13 +69,36 @@ def _write(out: Path, name: str, seed: int, cfg: ScenarioConfig, results: list[S
         "config": {k: v for k, v in vars(cfg).items()},
     }
     summary = summarise(name, seed, modes, actions=list(_actions(results)), complete=complete, extra=extra)
-    allocs = [a for r in results for m in cfg.modes if m in r.runs for a in r.runs[m].allocations]
-    write_allocations(out / "allocations.csv", allocs)
+    abandoned = sum(m["repetitions_abandoned"] for m in summary["modes"].values())
+    summary["status"] = "abandoned" if status == "complete" and abandoned else status
+    summary["complete"] = complete and not abandoned
+    summary["subjects_finished"] = len(results)
+    summary["subjects_planned"] = cfg.subjects
+    summary["repetitions_abandoned"] = abandoned
+    runs = [r.runs[m] for r in results for m in cfg.modes if m in r.runs]
+    write_allocations(out / "allocations.csv", [a for run in runs for a in run.allocations])
+    write_failures(out / "failures.csv", [f for run in runs for f in run.failures])
     if final:
         write_ticks(out / "ticks.csv", [run for r in results for run in r.runs.values()])
+        _write_states(out, name, seed, cfg, results)
         write_plots(out, name, results, cfg)
     write_summary(out / "summary.json", summary)
     return summary
+
+
+def _write_states(out: Path, name: str, seed: int, cfg: ScenarioConfig, results: list[SubjectResult]) -> None:
+    """kwear_state_s<subject>_<mode>.json: the KWear state each run ended with (ergosim.twin.kwear_state)."""
+    for r in results:
+        params = make_subjects(r.subject + 1, seed)[r.subject].kwear_params()
+        for mode, run in r.runs.items():
+            rows = run.ticks.rows
+            doc = state_document(
+                scenario=name, task=cfg.task, seed=seed, subject=r.subject, worker=r.name, mode=mode,
+                time_s=float(rows[-1, 1]) if len(rows) else 0.0,
+                v=run.ticks.kwear[-1] if len(rows) else [0.0] * run.ticks.kwear.shape[1],
+                alpha=r.alphas, kwear_params=params, gamma=cfg.gamma, v_th=cfg.v_th,
+                robot_cost=cfg.robot_cost)
+            write_json(out / f"kwear_state_s{r.subject}_{mode}.json", doc)
 
 
 def _actions(results: list[SubjectResult]) -> list[str]:
@@ -72,49 +108,79 @@ def _actions(results: list[SubjectResult]) -> list[str]:
 
 
 def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None = None, progress: bool = True,
-                 recorder=None) -> ScenarioResult:
-    """Run ``scenario`` for its subjects and write summary.json, allocations.csv, ticks.csv, PNGs.
+                 recorder=None, record_subject: int = 0, record_mode: str | None = None) -> ScenarioResult:
+    """Run ``scenario`` for its subjects and write summary.json, allocations.csv, failures.csv, ticks.csv,
+    the KWear state files and PNGs into ``out``, which the run owns (run.json).
 
-    ``recorder`` (an enabled :class:`~ergosim.viz.TwinRecorder`): the first subject's run in the first mode
-    is logged to it (3-D workcell, joint angles, RULA, KWear, decisions) once the run is over.
+    ``recorder`` (an enabled :class:`~ergosim.viz.TwinRecorder`): subject ``record_subject``'s run in mode
+    ``record_mode`` (default: the first mode) is logged to it (3-D workcell, joint angles, RULA, KWear,
+    decisions, failures) once the run is over. SIGINT and SIGTERM stop the run the same way: the finished
+    subjects are written, then :class:`~ergosim.twin.interrupt.Interrupted` propagates.
     """
     name, cfg = scenario.name, scenario.protocol
     out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
+    recording = recorder is not None and recorder.enabled
+    record_mode = (record_mode or cfg.modes[0]) if recording else None
+    folder = RunFolder(out, scenario=name, seed=seed)
+    folder.claim({k: v for k, v in vars(cfg).items()})
     jobs = max(1, min(jobs or os.cpu_count() or 1, cfg.subjects))
-    record_mode = cfg.modes[0] if recorder is not None and recorder.enabled else None
-    args = [(scenario, i, seed, tuple(cfg.modes), record_mode if i == 0 else None)
+    args = [(scenario, i, seed, tuple(cfg.modes), record_mode if i == record_subject else None)
             for i in range(cfg.subjects)]
     bar = Progress(cfg.subjects, f"{name}: subjects", enabled=progress)
     results: list[SubjectResult] = []
     start = time.monotonic()
-    complete = False
+    status, reason = "failed", ""
     try:
-        if jobs == 1:
-            for a in args:
-                results.append(_job(a))
-                _write(out, name, seed, cfg, results, complete=False, final=False)
-                bar.advance()
-        else:
-            ctx = multiprocessing.get_context("spawn")
-            with cf.ProcessPoolExecutor(max_workers=jobs, mp_context=ctx) as pool:
-                futures = [pool.submit(_job, a) for a in args]
+        with interrupt_on_signals():
+            if jobs == 1:
+                for a in args:
+                    results.append(_job(a))
+                    _write(out, name, seed, cfg, results, complete=False, final=False)
+                    bar.advance()
+            else:
+                ctx = multiprocessing.get_context("spawn")
+                with signals_ignored():
+                    pool = cf.ProcessPoolExecutor(max_workers=jobs, mp_context=ctx, initializer=quiet_worker)
+                    futures = [pool.submit(_job, a) for a in args]
                 try:
                     for fut in cf.as_completed(futures):
                         results.append(fut.result())
                         _write(out, name, seed, cfg, results, complete=False, final=False)
                         bar.advance()
                 except BaseException:
-                    for f in futures:
-                        f.cancel()
+                    stop_pool(pool)
                     raise
-        complete = True
+                pool.shutdown()
+        status = "complete"
+    except Interrupted as err:
+        status, reason = "interrupted", f"stopped by {err}"
+        raise
+    except KeyboardInterrupt:
+        status, reason = "interrupted", "stopped by SIGINT"
+        raise
+    except BaseException as err:
+        reason = f"{type(err).__name__}: {err}"
+        raise
     finally:
         bar.close()
-        summary = _write(out, name, seed, cfg, results, complete=complete, final=True) if results else {}
+        with interrupt_on_signals():  # a second Ctrl-C while writing still leaves whole files
+            if results:
+                summary = _write(out, name, seed, cfg, results, complete=status == "complete", final=True,
+                                 status=status)
+                if summary["status"] == "abandoned":
+                    status = "abandoned"
+                    reason = f"{summary['repetitions_abandoned']} repetition(s) abandoned"
+                folder.finish(status, reason)
+            elif status == "interrupted":
+                summary = _write(out, name, seed, cfg, results, complete=False, final=True, status=status)
+                folder.finish(status, reason)
+            else:
+                summary = {}
+                folder.discard()  # an early error leaves no empty output folder behind
     results.sort(key=lambda r: r.subject)
-    if record_mode is not None and results and results[0].subject == 0:
-        first = results[0]
-        cell = subject_cell(scenario, make_subjects(1, seed)[0])
-        record_run(recorder, cell.model, first.runs[record_mode], cfg.v_th, cell.parts)
-    return ScenarioResult(results, summary, out, time.monotonic() - start)
+    chosen = [r for r in results if r.subject == record_subject]
+    if record_mode is not None and chosen:
+        subject = make_subjects(record_subject + 1, seed)[record_subject]
+        cell = subject_cell(scenario, subject)
+        record_run(recorder, cell.model, chosen[0].runs[record_mode], cfg.v_th, cell.parts)
+    return ScenarioResult(results, summary, out, time.monotonic() - start, status)

@@ -17,7 +17,7 @@ from ergosim.twin.allocator import Allocator, Decision
 from ergosim.twin.in_hand import InHandTurn, relative_pose
 from ergosim.twin.loop import Plant
 from ergosim.twin.modes import get_mode
-from ergosim.twin.records import Allocation, SubjectRun
+from ergosim.twin.records import Allocation, Failure, RepetitionOutcome, SubjectRun
 from ergosim.worker.motion import Worker
 
 __all__ = ["Session"]
@@ -36,6 +36,7 @@ class _Outcome:
     status: str
     t_start: float
     t_end: float
+    message: str = ""
 
 
 class Session:
@@ -54,7 +55,8 @@ class Session:
         self.rng = rng
         self.hand = f"human_{worker.side}"
         self.allocations: list[Allocation] = []
-        self.failures: list[str] = []
+        self.failures: list[Failure] = []
+        self.outcomes: list[RepetitionOutcome] = []
         self.decisions: list[Decision] = []
 
     # -- completion, detected in the scene -----------------------------------------------------------------
@@ -144,7 +146,8 @@ class Session:
             # The worker takes the part from the gripper and inserts it (paper §7.2, Fig. 8 bottom).
             out = self._worker_action(geom, handover=True)
             plant.run_until(lambda: self.robot.done, _ACTION_TIMEOUT)
-            return _Outcome(out.ok, out.status, t0, plant.time)
+            return _Outcome(out.ok, out.status, t0, plant.time,
+                            "" if out.ok else f"the worker did not complete the handover ({out.status})")
         if not plant.run_until(lambda: self.robot.done, _ACTION_TIMEOUT):
             return _Outcome(False, "timeout", t0, plant.time)
         if not self.robot.ok:
@@ -156,7 +159,7 @@ class Session:
 
     def _robot_failure(self, t0: float) -> _Outcome:
         self.plant.run_until(lambda: self.robot.done, _ACTION_TIMEOUT)
-        return _Outcome(False, self.robot.status_name, t0, self.plant.time)
+        return _Outcome(False, self.robot.status_name, t0, self.plant.time, self.robot.message)
 
     # -- repetitions ---------------------------------------------------------------------------------------
     def _repetition(self, rep: int) -> bool:
@@ -170,7 +173,7 @@ class Session:
                 decision = alloc.decide(plant.v, done, pruned, plant.time, rep)
             except InfeasiblePlanError as err:
                 # Every agent that may do a remaining action failed at it: the repetition cannot finish.
-                self.failures.append(f"repetition {rep}: abandoned, {err.what}")
+                self._abandon(rep, order, done, pruned, err.what)
                 return False
             if decision is None:
                 return True
@@ -182,6 +185,7 @@ class Session:
                 plant.kwear.finish_action()  # the online α update of §5, when enabled
             else:
                 out = self._robot_action(geom)
+            attempt = sum(a.action == decision.action for a in self.allocations if a.repetition == rep) + 1
             if out.ok:
                 done.append(decision.operation)
                 pruned.clear()
@@ -189,8 +193,9 @@ class Session:
                 # Paper §2.2: a robot that cannot do an action loses its hyper-arc for this attempt and the
                 # planner re-plans without it; the worker retries from wherever the part now lies.
                 msg = (f"repetition {rep}: {decision.action} by {decision.agent} failed ({out.status}) "
-                       f"at t={out.t_end:.1f} s")
-                self.failures.append(msg)
+                       f"at t={out.t_end:.1f} s" + (f": {out.message}" if out.message else ""))
+                self.failures.append(Failure(out.t_end, self.subject_index, self.mode, rep, decision.action,
+                                             decision.agent, f"failed:{_reason(out.status)}", msg))
                 attempts[decision.action] = attempts.get(decision.action, 0) + 1
                 if (decision.agent != alloc.human or out.status.startswith("unreachable")
                         or attempts[decision.action] >= _HUMAN_ATTEMPTS):
@@ -199,7 +204,9 @@ class Session:
                 subject=self.subject_index, mode=self.mode, repetition=rep, order=order,
                 action=decision.action, agent=decision.agent,
                 human_cost=decision.cost_of(alloc.human), robot_cost=decision.cost_of(alloc.robot),
-                t_start=out.t_start, t_end=out.t_end, had_choice=decision.had_choice, status=out.status,
+                t_start=out.t_start, t_end=out.t_end, had_choice=decision.had_choice,
+                status="done" if out.ok else f"failed:{_reason(out.status)}", attempt=attempt,
+                forced=self._forced(decision), allocatable=len(alloc.allowed[decision.action]) > 1,
             ))
             order += 1
 
@@ -218,7 +225,14 @@ class Session:
             ok = self._repetition(rep)
             completed += int(ok)
             overruns += int(plant.time - start > cfg.takt)
-            if not ok:
+            if ok:
+                self.outcomes.append(RepetitionOutcome(self.subject_index, self.mode, rep, "completed",
+                                                       t_start=start, t_end=plant.time))
+            else:
+                self.outcomes[-1] = dataclasses.replace(self.outcomes[-1], t_start=start, t_end=plant.time)
+                self.outcomes += [RepetitionOutcome(self.subject_index, self.mode, r, "not_run",
+                                                    f"repetition {rep} was abandoned")
+                                  for r in range(rep + 1, repetitions + 1)]
                 break
         # The shift lasts the production schedule: a worker who finished early rests until its end, so
         # the load proxies of every mode cover the same window (paper §7.2: takt-timed repetitions).
@@ -233,4 +247,39 @@ class Session:
             subject=self.subject_index, mode=self.mode, allocations=self.allocations, ticks=plant.log,
             repetitions_completed=completed, takt_overruns=overruns, dt_tick=plant.dt_tick, v_th=cfg.v_th,
             failures=self.failures, decisions=self.decisions, bodies=bodies, horizon=horizon,
+            outcomes=self.outcomes,
         )
+
+    # -- what the outputs say about an attempt -------------------------------------------------------------
+    def _forced(self, decision: Decision) -> str:
+        """The agent, if the task and mode allow more than one agent for the action but failures in this
+        repetition pruned every other one; else ""."""
+        alloc = self.allocator
+        action = decision.action
+        by_mode = alloc.allowed[action] - {a for (act, a) in alloc.base_pruned if act == action}
+        return decision.agent if len(by_mode) > 1 and not decision.had_choice else ""
+
+    def _abandon(self, rep: int, order: int, done: list[str], pruned: set[tuple[str, str]], why: str) -> None:
+        """Record an abandoned repetition: a ``pruned`` row per action whose every allowed agent failed."""
+        alloc, t = self.allocator, self.plant.time
+        msg = f"repetition {rep}: abandoned, {why}"
+        self.failures.append(Failure(t, self.subject_index, self.mode, rep, "", "", "abandoned", msg))
+        self.outcomes.append(RepetitionOutcome(self.subject_index, self.mode, rep, "abandoned", why))
+        done_actions = {alloc._action_of[o] for o in done}
+        cut = alloc.base_pruned | pruned
+        for action in alloc.graph.actions:
+            agents = alloc.allowed[action]
+            if action in done_actions or not all((action, a) in cut for a in agents):
+                continue
+            attempts = sum(a.action == action for a in self.allocations if a.repetition == rep)
+            self.allocations.append(Allocation(
+                subject=self.subject_index, mode=self.mode, repetition=rep, order=order, action=action,
+                agent="", human_cost=np.nan, robot_cost=np.nan, t_start=t, t_end=t, had_choice=False,
+                status="pruned", attempt=attempts, allocatable=len(agents) > 1,
+            ))
+            order += 1
+
+
+def _reason(status: str) -> str:
+    """``unreachable (12 cm short)`` -> ``unreachable``: the status word of a failed attempt."""
+    return status.split(" ", 1)[0] or "failed"

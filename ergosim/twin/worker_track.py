@@ -85,7 +85,7 @@ class WorkerTrack:
 
     @classmethod
     def for_subject(cls, subject: Subject, rng: np.random.Generator, *, rate: float,
-                    dropout_rate: float = 0.0, noise: bool = True) -> WorkerTrack:
+                    dropout_rate: float = 0.0, noise: bool | float = True) -> WorkerTrack:
         """``subject``'s worker and mocap stream at ``rate`` [Hz], the stream drawing from ``rng``."""
         return cls(Worker(subject, rate=rate),
                    MocapStream(subject, rng, rate=rate, dropout_rate=dropout_rate, noise=noise))

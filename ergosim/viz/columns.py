@@ -40,8 +40,9 @@ class ColumnBuffer:
         if len(t):
             self._poses[entity].append((t, rep, translation, quat_xyzw))
 
-    def text(self, entity: str, t: float, rep: int, text: str, color: tuple[int, int, int]) -> None:
-        self._texts[entity].append((t, rep, text, color))
+    def text(self, entity: str, t: float, rep: int, text: str, color: tuple[int, int, int],
+             level: str = "INFO") -> None:
+        self._texts[entity].append((t, rep, text, color, level))
 
     def send(self, stream: rr.RecordingStream) -> None:
         """Send everything buffered, one call per entity, and empty the buffer."""
@@ -54,9 +55,9 @@ class ColumnBuffer:
             values = np.concatenate([r[2] for r in rows])
             stream.send_columns(entity, indexes=indexes(rows), columns=rr.Scalars.columns(scalars=values))
         for entity, rows in self._texts.items():
-            t, rep, text, color = zip(*rows, strict=True)
+            t, rep, text, color, level = zip(*rows, strict=True)
             stream.send_columns(entity, indexes=_indexes(np.array(t), np.array(rep)),
-                                columns=rr.TextLog.columns(text=list(text), level=["INFO"] * len(text),
+                                columns=rr.TextLog.columns(text=list(text), level=list(level),
                                                            color=np.array(color, dtype=np.uint8)))
         self._scalars.clear()
         self._poses.clear()

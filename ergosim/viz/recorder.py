@@ -18,6 +18,7 @@ import numpy as np
 import rerun as rr
 
 from ergosim.ergonomics.rula import RULA_PARTS
+from ergosim.errors import RecordingError
 from ergosim.posture import ANGLE_NAMES, KWEAR_JOINTS
 from ergosim.viz import paths, styles
 from ergosim.viz.columns import ColumnBuffer
@@ -29,6 +30,10 @@ from ergosim.viz.scene import log_scene
 __all__ = ["TwinRecorder"]
 
 _M = len(KWEAR_JOINTS)
+_EVENT_COLOR = (230, 126, 34)  # orange: a failure stands out among the agents' blue and red decisions
+_FLUSH_TIMEOUT = 20.0
+"""Seconds :meth:`TwinRecorder.close` waits for a viewer to take the recording (assumed: a local viewer
+takes a whole run in well under a second; a dead URL must not hang the run)."""
 
 
 class TwinRecorder:
@@ -80,6 +85,21 @@ class TwinRecorder:
         s = self._stream
         s.log(paths.WORLD, rr.ViewCoordinates.RIGHT_HAND_Z_UP, static=True)
         log_scene(s, self._bodies)
+        self._series_static()
+
+    def log_ergonomics_static(self, *, v_th: np.ndarray) -> None:
+        """Series styles and the KWear thresholds ``v_th`` (5,) for a recording without a scene (a replayed
+        motion capture): then :meth:`log_ticks` takes zero bodies."""
+        v_th = np.asarray(v_th, dtype=float)
+        if v_th.shape != (_M,):
+            raise ValueError(f"v_th must have shape ({_M},), got {v_th.shape}")
+        self._v_th = v_th.copy()
+        self._scene_free = True
+        if self._stream is not None:
+            self._series_static()
+
+    def _series_static(self) -> None:
+        s = self._stream
         for joint in KWEAR_JOINTS:
             s.log(join(paths.KWEAR, joint), styles.kwear_style(joint), static=True)
             s.log(join(paths.KWEAR_THRESHOLD, joint), styles.threshold_style(joint), static=True)
@@ -142,6 +162,8 @@ class TwinRecorder:
 
     def _moving_bodies(self, body_names: tuple[str, ...]) -> list[tuple[int, str]]:
         """(column, entity) of the bodies whose pose is logged per tick (world-welded ones are static)."""
+        if not body_names and getattr(self, "_scene_free", False):
+            return []
         if self._tick_index[0] != body_names:
             if not self._bodies:
                 raise RuntimeError("log_static must be called before log_ticks")
@@ -171,15 +193,25 @@ class TwinRecorder:
         buf.text(paths.ALLOCATION_LOG, float(sim_time), int(repetition), reason, color)
         for j, joint in enumerate(KWEAR_JOINTS):
             buf.scalars(join(paths.V_NOW, joint), t, rep, np.array([float(v_now[j])]))
-        for action, values in v_hat.items():
-            for j, joint in enumerate(KWEAR_JOINTS):
+        for action, predicted in v_hat.items():
+            values = np.atleast_1d(np.asarray(predicted, dtype=float))
+            # KWear predicts one V̂ per joint; a static index (the RULA baseline) one normalised score
+            names = KWEAR_JOINTS if len(values) == len(KWEAR_JOINTS) else ("score",) * len(values)
+            for joint, value in zip(names, values, strict=True):
                 entity = join(paths.V_HAT, action, joint)
-                self._style(entity, f"{action} {joint}", styles.JOINT_COLORS[joint])
-                buf.scalars(entity, t, rep, np.array([float(values[j])]))
+                self._style(entity, f"{action} {joint}", styles.JOINT_COLORS.get(joint, styles.PALETTE[7]))
+                buf.scalars(entity, t, rep, np.array([float(value)]))
         for (action, agent), cost in costs.items():
             entity = join(paths.COSTS, action, agent)
             self._style(entity, f"{action} {agent}", styles.agent_color(agent))
             buf.scalars(entity, t, rep, np.array([float(cost)]))
+
+    def log_event(self, sim_time: float, repetition: int, text: str, level: str = "WARN") -> None:
+        """A line in the allocation text log at ``sim_time`` [s], e.g. a failed attempt (``level`` WARN) or
+        an abandoned repetition. Sent with the next flush."""
+        if self._stream is None:
+            return
+        self._buffer.text(paths.ALLOCATION_LOG, float(sim_time), int(repetition), text, _EVENT_COLOR, level)
 
     def _style(self, entity: str, name: str, color: tuple[int, int, int]) -> None:
         if entity not in self._styled:
@@ -200,16 +232,30 @@ class TwinRecorder:
         self._pending = 0
 
     # -- end ------------------------------------------------------------------------------------------------
-    def close(self, *, commit: bool = True) -> None:
-        """Flush and close every sink; an .rrd file is complete under its final name when this returns."""
-        self.flush()
-        stream, self._stream = self._stream, None
-        if stream is not None:
-            stream.flush()
-            stream.disconnect()
-        if self._on_close is not None:
-            on_close, self._on_close = self._on_close, None
-            on_close(commit)
+    def close(self, *, commit: bool = True, timeout: float | None = None) -> None:
+        """Flush and close every sink; an .rrd file is complete under its final name when this returns.
+
+        The flush waits at most ``timeout`` seconds (default ``_FLUSH_TIMEOUT``) for the sinks (a viewer
+        that is not there, a URL nobody listens on); then the .rrd file is still committed and
+        :class:`~ergosim.errors.RecordingError` says which sink did not take the recording.
+        """
+        failure = None
+        try:
+            self.flush()
+        finally:
+            stream, self._stream = self._stream, None
+            if stream is not None:
+                try:
+                    stream.flush(timeout_sec=_FLUSH_TIMEOUT if timeout is None else timeout)
+                except RuntimeError as err:  # rerun: "gRPC has been unable to connect for 6s, uri: ..."
+                    failure = " ".join(str(err).split())
+                stream.disconnect()
+            if self._on_close is not None:
+                on_close, self._on_close = self._on_close, None
+                on_close(commit)
+        if failure is not None:
+            raise RecordingError(f"the recording did not reach the viewer: {failure}",
+                                 where="--spawn/--connect")
 
     def __enter__(self) -> TwinRecorder:
         return self

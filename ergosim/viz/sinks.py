@@ -12,7 +12,12 @@ from __future__ import annotations
 import contextlib
 import dataclasses
 import os
+import shutil
+import socket
+import subprocess
+import sys
 import tempfile
+import time
 from pathlib import Path
 
 import rerun as rr
@@ -21,9 +26,13 @@ from ergosim.errors import ConfigError
 from ergosim.viz.blueprint import build_blueprint
 from ergosim.viz.recorder import TwinRecorder
 
-__all__ = ["DEFAULT_URL", "SPAWN_PORT", "SinkPlan", "plan_sinks", "open_recording"]
+__all__ = ["DEFAULT_URL", "SPAWN_PORT", "SPAWN_HOST", "SinkPlan", "plan_sinks", "open_recording",
+           "spawn_viewer"]
 
 SPAWN_PORT = 9876
+SPAWN_HOST = "127.0.0.1"
+"""The spawned viewer listens on the loopback interface only: its gRPC proxy has no authentication."""
+_SPAWN_WAIT = 15.0  # s for a spawned viewer to listen (assumed: it starts in about a second)
 DEFAULT_URL = f"rerun+http://127.0.0.1:{SPAWN_PORT}/proxy"
 """Where a viewer started with ``rerun`` (or ``--spawn``) listens."""
 
@@ -86,7 +95,7 @@ def open_recording(rrd: str | os.PathLike[str] | None = None, spawn: bool = Fals
         sinks.append(rr.FileSink(pending.tmp))
     try:
         if plan.spawn:
-            rr.spawn(port=SPAWN_PORT, connect=False, recording=stream)
+            spawn_viewer(SPAWN_PORT)
         sinks.extend(rr.GrpcSink(url) for url in plan.urls)
         stream.set_sinks(*sinks, default_blueprint=build_blueprint())
         if recording_name:
@@ -96,6 +105,50 @@ def open_recording(rrd: str | os.PathLike[str] | None = None, spawn: bool = Fals
             pending.finish(False)
         raise
     return TwinRecorder(stream, on_close=None if pending is None else pending.finish)
+
+
+def _listening(port: int) -> bool:
+    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
+        s.settimeout(0.5)
+        return s.connect_ex((SPAWN_HOST, port)) == 0
+
+
+def spawn_viewer(port: int = SPAWN_PORT, *, wait: float = _SPAWN_WAIT) -> subprocess.Popen | None:
+    """Start a rerun viewer bound to 127.0.0.1:``port`` (``rerun --bind 127.0.0.1``) and wait until it
+    listens; None if a viewer already listens there. ConfigError, at once and before any simulation, if
+    there is no display or the viewer exits or does not listen within ``wait`` seconds."""
+    if _listening(port):
+        return None
+    display = os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")
+    if sys.platform.startswith("linux") and not display:
+        raise ConfigError("cannot open a viewer: no display (DISPLAY and WAYLAND_DISPLAY are unset); save a "
+                          "recording with --rrd FILE instead and open it with `rerun FILE`", where="--spawn")
+    exe = Path(sys.executable).with_name("rerun")
+    exe = str(exe) if exe.is_file() else shutil.which("rerun")
+    if exe is None:
+        raise ConfigError("cannot open a viewer: the `rerun` command (from rerun-sdk) is not on PATH",
+                          where="--spawn")
+    env = {**os.environ, "RERUN_APP_ONLY": "true"}
+    log = tempfile.TemporaryFile()  # the viewer's own log, read back only if it fails to start
+    proc = subprocess.Popen([exe, "--port", str(port), "--bind", SPAWN_HOST, "--memory-limit", "75%"],
+                            stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=log,
+                            env=env, start_new_session=True)
+    deadline = time.monotonic() + wait
+    while time.monotonic() < deadline:
+        if proc.poll() is not None:
+            log.seek(0)
+            last = log.read().decode(errors="replace").strip().splitlines()[-1:]
+            raise ConfigError(f"the rerun viewer exited with status {proc.returncode}"
+                              + (f": {last[0][:200]}" if last else ""), where="--spawn")
+        if _listening(port):
+            time.sleep(0.5)  # a viewer without a usable display listens, then exits: see it exit
+            if proc.poll() is None:
+                return proc
+            continue
+        time.sleep(0.1)
+    proc.kill()
+    raise ConfigError(f"the rerun viewer did not listen on {SPAWN_HOST}:{port} within {wait:g} s",
+                      where="--spawn")
 
 
 class _PendingFile:

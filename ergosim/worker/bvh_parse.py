@@ -12,6 +12,7 @@ Every problem raises :class:`~ergosim.errors.RecordingError` with ``where="<file
 
 from __future__ import annotations
 
+import stat
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -19,7 +20,7 @@ import numpy as np
 
 from ergosim.errors import RecordingError
 
-__all__ = ["BvhJoint", "BvhData", "parse_bvh", "parse_bvh_text"]
+__all__ = ["BvhJoint", "BvhData", "parse_bvh", "parse_bvh_text", "MAX_BVH_BYTES"]
 
 _AXIS = {"x": 0, "y": 1, "z": 2}
 _CHANNEL_KINDS = ("position", "rotation")
@@ -163,7 +164,7 @@ def _header_value(lines: list[str], n: int, label: str, source: str) -> tuple[st
         n += 1
     if n >= len(lines):
         raise RecordingError(f"file ends in MOTION, expected '{label}'", where=f"{source}:{len(lines)}")
-    text = lines[n].strip()
+    text = " ".join(lines[n].split())  # tabs or runs of blanks anywhere, e.g. "Frame\tTime:\t0.0167"
     if not text.lower().startswith(label.lower()):
         raise RecordingError(f"expected '{label} <value>', found {text[:40]!r}", where=f"{source}:{n + 1}")
     return text[len(label):].strip(), n
@@ -241,10 +242,32 @@ def parse_bvh_text(text: str, source: str = "<string>") -> BvhData:
     return BvhData(tuple(joints), frame_time, motion, source)
 
 
+MAX_BVH_BYTES = 256 << 20
+"""Largest BVH file read [bytes]: about an hour of a full-body Xsens suit at 60 Hz (assumed ~100 channels of
+8 characters per frame). Larger recordings: split them."""
+
+
 def parse_bvh(path: str | Path) -> BvhData:
-    """Read and parse the BVH file at ``path``."""
+    """Read and parse the BVH file at ``path``: a regular file of at most :data:`MAX_BVH_BYTES` (a device such
+    as /dev/zero or a named pipe is refused, never read)."""
+    p = Path(path)
     try:
-        text = Path(path).read_text(encoding="utf-8-sig")
+        st = p.stat()
+        if stat.S_ISDIR(st.st_mode):
+            raise RecordingError("is a directory, expected a BVH file", where=str(path))
+        if not stat.S_ISREG(st.st_mode):
+            raise RecordingError("not a regular file (a device or a pipe?); expected a BVH file",
+                                 where=str(path))
+        if st.st_size > MAX_BVH_BYTES:
+            raise RecordingError(f"{st.st_size} bytes, more than the limit of {MAX_BVH_BYTES} "
+                                 "(ergosim.worker.bvh_parse.MAX_BVH_BYTES)", where=str(path))
+        with p.open("rb") as f:  # at most the limit, should the file grow meanwhile
+            data = f.read(MAX_BVH_BYTES + 1)
+        if len(data) > MAX_BVH_BYTES:
+            raise RecordingError(f"more than the limit of {MAX_BVH_BYTES} bytes", where=str(path))
+        text = data.decode("utf-8-sig")
+    except FileNotFoundError:
+        raise RecordingError("no such file", where=str(path)) from None
     except (OSError, UnicodeDecodeError) as exc:
         raise RecordingError(f"cannot read BVH file: {exc}", where=str(path)) from None
     return parse_bvh_text(text, str(path))

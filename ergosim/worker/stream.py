@@ -45,16 +45,19 @@ class MocapStream:
 
     def __init__(self, subject: Subject, rng: np.random.Generator, rate: float = 60.0,
                  dropout_rate: float = 0.0, dropout_frames: float = 3.0, bias_tau: float = 30.0,
-                 noise: bool = True) -> None:
+                 noise: bool | float = True) -> None:
         self.subject = subject
         self.rng = rng
         self.rate = float(rate)
         self.dropout_rate = float(dropout_rate)
         self.dropout_frames = float(dropout_frames)
         self.bias_tau = float(bias_tau)
+        # noise: True/1.0 the subject's sensor noise, False/0.0 none, a float scales bias and white noise
         self.noise = noise
+        self.noise_scale = float(noise)
         n = len(HUMAN_JOINTS)
-        self.bias = rng.normal(0.0, subject.bias_deg, n) if noise else np.zeros(n)
+        self.bias = (self.noise_scale * rng.normal(0.0, subject.bias_deg, n) if self.noise_scale > 0
+                     else np.zeros(n))
         self.dropouts = 0
         self.frames = 0
         self._in_dropout = 0
@@ -65,15 +68,16 @@ class MocapStream:
         n = len(angles)
         t = t0 + np.arange(n) / self.rate
         out = angles.copy()
-        if self.noise:
+        if self.noise_scale > 0:
             # exact discretisation of the OU bias: b_k+1 = a b_k + sqrt(1 - a^2) sigma w_k
             a = np.exp(-1.0 / (self.rate * self.bias_tau))
-            w = self.rng.normal(0.0, self.subject.bias_deg * np.sqrt(1.0 - a * a), angles.shape)
+            sigma = self.noise_scale * self.subject.bias_deg
+            w = self.rng.normal(0.0, sigma * np.sqrt(1.0 - a * a), angles.shape)
             # the recursion as a first-order IIR filter over the frames, continuing from the last bias
             bias, _ = lfilter([1.0], [1.0, -a], w, axis=0, zi=(a * self.bias)[None, :])
             if n:
                 self.bias = bias[-1].copy()
-            out += bias + self.rng.normal(0.0, self.subject.noise_deg, angles.shape)
+            out += bias + self.rng.normal(0.0, self.noise_scale * self.subject.noise_deg, angles.shape)
         valid = np.ones(n, dtype=bool)
         if self.dropout_rate > 0.0:
             starts = self.rng.random(n) < self.dropout_rate
