@@ -438,6 +438,19 @@ class _Carry(Skill):
         except PathError:
             return carry
 
+    def _replan_leave(self, leave: _Motion, planned_from: np.ndarray, away: np.ndarray,
+                      contact: float) -> _Motion:
+        """The way out (:meth:`_leave`, planned from ``planned_from``) from where the re-planned carry
+        actually ended, so the retreat starts where the arm is; keeps the planned one if the new one
+        fails."""
+        if np.allclose(self._carried_to, planned_from, atol=1e-9):
+            return leave
+        end = self.base.to_world(Pose(*self.kin.fk(self._carried_to)))
+        try:
+            return self._leave(self._carried_to, end, away, contact)
+        except PathError:
+            return leave
+
     def _carry(self, reach: _Motion, carry: _Motion) -> Generator[None, None, SkillResult | None]:
         """Execute reach, grasp and carry; a failure result (after returning home) or None on arrival."""
         self._planned_q_grasp = reach.end
@@ -452,6 +465,7 @@ class _Carry(Skill):
                                 f"(grasp site {self.grasp_site})")
         yield from self._hold(self.params.settle)
         carry = self._replan_carry(carry)
+        self._carried_to = carry.end
         d, site = self.wc.data, self.wc.model.site(self.grasp_site).id
         every = self.params.drop_check_every
         tol = self.wc.config.grasp_tolerance
@@ -512,6 +526,7 @@ class PickPlace(_Carry):
             failure = yield from self._carry(reach, carry)
             if failure is not None:
                 return failure
+            leave = self._replan_leave(leave, carry.end, self.approach_dir, contact)
             if self.hold > 0:
                 yield from self._hold(self.hold, phase="contact")
             self.wc.release(self.holder, self.grasp_body)
@@ -565,6 +580,7 @@ class Handover(_Carry):
         failure = yield from self._carry(reach, carry)
         if failure is not None:
             return failure
+        leave = self._replan_leave(leave, carry.end, up, self.zone)
         waited = 0
         self._phase = "wait"
         while not self.taken(self.wc):

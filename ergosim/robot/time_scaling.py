@@ -17,6 +17,8 @@ __all__ = ["trapezoid", "speed_profile"]
 
 _SUBSTEPS_PER_RAMP = 16
 """Sub-steps into which the distance needed to reach a piece's cap is cut (the passes' resolution)."""
+_MIN_SUBSTEPS = 32
+"""Sub-steps of any piece at least (a triangular profile peaks between two of them)."""
 _MAX_SUBSTEPS = 400
 
 
@@ -50,7 +52,8 @@ def speed_profile(steps: np.ndarray, caps: np.ndarray, accels: np.ndarray, dt: f
     if total <= 0:
         return np.array([total])
     ramp = caps**2 / (2 * accels)
-    m = np.clip(np.ceil(_SUBSTEPS_PER_RAMP * steps / np.maximum(ramp, 1e-300)), 2, _MAX_SUBSTEPS).astype(int)
+    m = np.clip(np.ceil(_SUBSTEPS_PER_RAMP * steps / np.maximum(ramp, 1e-300)), _MIN_SUBSTEPS,
+                _MAX_SUBSTEPS).astype(int)
     h = np.repeat(steps / m, m)  # (n,) sub-step lengths
     a = np.repeat(accels, m)
     cap = np.repeat(caps, m)

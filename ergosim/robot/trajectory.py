@@ -54,7 +54,8 @@ class MotionLimits:
     """TCP caps per segment kind and joint limits.
 
     ``speed``/``accel``/``angular_speed``: contact-critical segments [m/s, m/s^2, rad/s];
-    ``transit_speed``/``transit_accel``/``transit_angular_speed``: free-space transits. Joints use at most
+    ``transit_speed``/``transit_accel``: free-space transits, whose angular speed is capped so that a point
+    ``sweep_radius`` [m] from the TCP moves at most at ``transit_speed``. Joints use at most
     ``joint_speed_fraction`` of their URDF velocity limits; ``sample`` [m] and ``sample_angle`` [rad] between
     IK solutions of a straight segment; ``max_joint_step`` [rad] largest joint change between two samples (a
     larger one means the IK switched branch and the straight line is not followable)."""
@@ -64,7 +65,7 @@ class MotionLimits:
     angular_speed: float = 0.5  # assumed
     transit_speed: float = TRANSIT_SPEED  # ISO 10218-1:2011 §5.6 reduced speed, <= 250 mm/s
     transit_accel: float = 1.0  # assumed: a 0.25 s ramp; the Panda's Cartesian limit is 13 m/s^2 (FCI)
-    transit_angular_speed: float = 1.0  # assumed: a point 0.25 m from the TCP stays at the reduced speed
+    sweep_radius: float = 0.25  # assumed: the hand and a held part (profiles 0.3 m, held mid-way) lie within
     joint_speed_fraction: float = 0.8
     sample: float = 0.01
     sample_angle: float = 0.05
@@ -75,7 +76,7 @@ class MotionLimits:
         if kind == "contact":
             return SpeedLimit(self.speed, self.accel, self.angular_speed)
         if kind == "transit":
-            return SpeedLimit(self.transit_speed, self.transit_accel, self.transit_angular_speed)
+            return SpeedLimit(self.transit_speed, self.transit_accel, self.transit_speed / self.sweep_radius)
         raise ValueError(f"segment kind must be one of {', '.join(SEGMENT_KINDS)}, got {kind!r}")
 
 
@@ -108,14 +109,19 @@ class BaseFrame:
         return Pose(self.rot @ pose.pos + self.pos, self.rot @ pose.rot)
 
 
-def _timed(knots: np.ndarray, times: np.ndarray, zone_speed: np.ndarray, zone_accel: np.ndarray,
-           dt: float) -> np.ndarray:
-    """Path parameter s(t) at every physics step over ``knots`` (k + 1,) in [0, 1], when the interval i
-    takes at least ``times[i]`` [s] (the slowest of its TCP, rotation and joint limits) and keeps the ramp
-    time ``zone_speed[i] / zone_accel[i]`` of its zone."""
+def _timed(knots: np.ndarray, times: np.ndarray, lengths: np.ndarray, angles: np.ndarray,
+           speed: np.ndarray, accel: np.ndarray, angular: np.ndarray, dt: float) -> np.ndarray:
+    """Path parameter s(t) at every physics step over ``knots`` (k + 1,) in [0, 1]. Interval i takes at
+    least ``times[i]`` [s] (the slowest of its TCP, rotation and joint limits); its TCP moves ``lengths[i]``
+    [m] and turns ``angles[i]`` [rad], accelerating at most ``accel[i]`` [m/s^2] and, in rotation, at
+    ``accel[i] * angular[i] / speed[i]`` [rad/s^2] (the same ramp time as to the speed cap)."""
     ds = np.diff(knots)
     caps = ds / np.maximum(times, 1e-12)
-    return speed_profile(ds, caps, caps * zone_accel / zone_speed, dt)
+    # metres (or radians scaled to metres) of TCP motion per unit of s; a pure null-space move keeps the
+    # ramp time of its cap
+    per_s = np.maximum(lengths, angles * speed / angular) / ds
+    accels = np.where(per_s > 1e-12, accel / np.maximum(per_s, 1e-12), caps * accel / speed)
+    return speed_profile(ds, caps, accels, dt)
 
 
 def line_trajectory(kin: PandaKinematics, q_start: np.ndarray, start: Pose, goal: Pose, limits: MotionLimits,
@@ -172,7 +178,7 @@ def line_trajectory(kin: PandaKinematics, q_start: np.ndarray, start: Pose, goal
     ds = np.diff(knots)
     joint_time = np.max(np.abs(np.diff(qs, axis=0)) / (kin.velocity * limits.joint_speed_fraction), axis=1)
     times = np.maximum.reduce([dist * ds / speed, angle * ds / angular, joint_time])
-    s = _timed(knots, times, speed, accel, dt)
+    s = _timed(knots, times, dist * ds, angle * ds, speed, accel, angular, dt)
     traj = np.stack([np.interp(s, knots, qs[:, j]) for j in range(kin.nq)], axis=1)
     in_slow = ((s < lo + 1e-12) & (lo > 0)) | ((s > hi - 1e-12) & (hi < 1))
     return traj, in_slow
@@ -221,5 +227,6 @@ def transit_trajectory(kin: PandaKinematics, q_start: np.ndarray, q_goal: np.nda
     step_joint = float(np.max(np.abs(delta) / (kin.velocity * limits.joint_speed_fraction))) / samples
     times = np.maximum.reduce([step_len / cap.speed, step_angle / cap.angular_speed,
                                np.full(samples, step_joint)])
-    s = _timed(knots, times, np.full(samples, cap.speed), np.full(samples, cap.accel), dt)
+    s = _timed(knots, times, step_len, step_angle, np.full(samples, cap.speed), np.full(samples, cap.accel),
+               np.full(samples, cap.angular_speed), dt)
     return q_start + s[:, None] * delta, low
