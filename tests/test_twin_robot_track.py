@@ -70,6 +70,9 @@ def test_the_robot_only_assembly_of_the_multi_subject_cell():
         assert all(10.0 < t < 18.0 for t in robot), robot
         assert 45.0 < run.robot_time < 65.0
         assert run.robot_time < run.repetition < 100.0
+        # reach, grasp and carry up to the handover pose: the part of the robot's time the worker waits for
+        assert all(6.0 < a.delivery < 12.0 for a in run.actions[:4])
+        assert 0.6 * run.robot_time < run.delivery < 0.8 * run.robot_time
         for a in run.actions[:4]:
             r = a.robot
             assert r.ok and {n for n, _ in r.phases} == set(SKILL_PHASES)

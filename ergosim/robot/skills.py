@@ -62,7 +62,7 @@ class SkillParams:
     contact_margin: float = 0.01  # assumed: 1 cm of contact-speed travel before the first possible touch
     insert_approach: float = 0.06  # assumed: a profile's 3 cm sleeve engagement twice over
     lift: float = 0.05  # assumed
-    finger_speed: float = 0.05  # Franka Hand datasheet: 50 mm/s per finger
+    finger_speed: float = 0.05  # per finger: the 0.1 m/s opening speed frankx's Gripper allows (max_speed)
     settle: float = 0.25  # assumed
     handover_timeout: float = 30.0
     place_drop: float = 0.002
@@ -141,6 +141,7 @@ class Skill(ABC):
         pos, quat = workcell.robot_base_pose()
         self.base = BaseFrame(pos, _quat_to_mat(quat))
         self._steps = 0
+        self._arrival = float("nan")
         self._phase = "transit"
         self._phase_steps = dict.fromkeys(SKILL_PHASES, 0)
         self._result: SkillResult | None = None
@@ -187,7 +188,8 @@ class Skill(ABC):
     # -- helpers for programs -------------------------------------------------------------------------------
     def _finish(self, status: SkillStatus, message: str, place_error: float = float("nan")) -> SkillResult:
         phases = tuple((ph, n * self.dt) for ph, n in self._phase_steps.items())
-        return SkillResult(self.name, self.part, status, message, self._steps * self.dt, place_error, phases)
+        return SkillResult(self.name, self.part, status, message, self._steps * self.dt, place_error, phases,
+                           self._arrival)
 
     def _q(self) -> np.ndarray:
         return self.wc.data.qpos[self._arm_q].copy()
@@ -482,6 +484,7 @@ class _Carry(Skill):
                 yield from self._follow(self._home(self._q(), self._tcp_world()))
                 return self._finish(SkillStatus.DROPPED, f"{self.part} left the gripper while carried")
         yield from self._hold(self.params.settle)
+        self._arrival = self._steps * self.dt
         return None
 
 

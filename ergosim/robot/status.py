@@ -32,7 +32,9 @@ class SkillStatus(Enum):
 class SkillResult:
     """``duration`` [s] of simulated time from the first step; ``place_error`` [m] of the part's origin to
     its target after release (NaN if it never got there); ``phases``: (phase, seconds) for each of
-    :data:`SKILL_PHASES`, summing to ``duration``."""
+    :data:`SKILL_PHASES`, summing to ``duration``; ``arrival`` [s from the first step]: when the part had
+    reached its target pose (place, insertion or handover pose) and the arm had settled there (NaN if it
+    never did)."""
 
     skill: str
     part: str
@@ -41,6 +43,7 @@ class SkillResult:
     duration: float
     place_error: float = float("nan")
     phases: tuple[tuple[str, float], ...] = ()
+    arrival: float = float("nan")
 
     def phase(self, name: str) -> float:
         """Seconds spent in phase ``name`` (0 if none)."""
