@@ -88,7 +88,7 @@ def build_rig(scenario: Scenario, subject: Subject, rng: np.random.Generator, re
     kwear = KWearIndex(subject.kwear_params(), alphas or {}, online_weight=cfg.online_alpha_weight)
     plant = Plant(cell, track, kwear, mocap_rate=cfg.mocap_rate,
                   ergonomics_rate=cfg.ergonomics_rate, physics_dt=cfg.physics_dt, record_bodies=record_bodies)
-    robot = RobotTrack(cell, ee_speed=cfg.ee_speed) if cell.robots else None
+    robot = RobotTrack(cell, ee_speed=cfg.ee_speed, transit_speed=cfg.transit_speed) if cell.robots else None
     plant.robot = robot
     return Rig(cell, plant, track.worker, robot, scenario.task())
 
