@@ -41,6 +41,9 @@ class ScenarioConfig:
     robot_cost: float
     """c_{h,w_r}: the constant cost of every robot hyper-arc (paper §4)."""
     takt: float = 38.0
+    takt_paced: bool = False
+    """Every repetition starts at its takt slot, in every mode (a paced line); False: only modes that wait
+    for the takt (h-only) do, the others start the next repetition at once."""
     gamma: float = 100.0
     """Γ: penalty added to γ_i when V̂_i ≥ V_th (eq. 11)."""
     v_th: float = 0.8

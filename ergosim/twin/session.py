@@ -213,7 +213,9 @@ class Session:
     def run(self, repetitions: int) -> SubjectRun:
         plant, cfg = self.plant, self.cfg
         completed = overruns = 0
-        wait = get_mode(self.mode).waits_for_takt  # paper §7.2: H-only workers wait for the takt
+        # a takt-paced line starts every repetition at its takt slot (paper §7.2: "we fixed the takt time for
+        # the two experimental conditions"); H-only workers wait for the takt whatever the line
+        wait = cfg.takt_paced or get_mode(self.mode).waits_for_takt
         for rep in range(1, repetitions + 1):
             slot = (rep - 1) * cfg.takt
             if wait and plant.time < slot:
