@@ -88,10 +88,9 @@ def _scenario(args):
 
 def _precheck(scenario) -> None:
     """Refuse a run certain to fail before any subject starts (reachability of every action)."""
-    from ergosim.scenes import build_cell  # noqa: PLC0415
-    from ergosim.twin.scenario_check import check_reachability  # noqa: PLC0415
+    from ergosim.twin.scenario_check import precheck  # noqa: PLC0415
 
-    check_reachability(scenario, scenario.task(), build_cell(scenario.cell()))
+    precheck(scenario)
 
 
 def run(args) -> int:

@@ -338,12 +338,15 @@ class PickPlace(_Carry):
     ``approach``: world direction the part arrives from (default +z, from above; for a profile going into a
     side hollow, the hollow's axis). ``seat``: weld an inserted part into its slot when it is within
     tolerance. ``hold`` [s]: keep holding the part at the target before letting go (fastening: the turn).
+    ``receive``: the target is a pose in the air where a receiver outside the cell takes the part
+    (``Workcell.receive``, the handover kind) before the fingers open; ``not_seated`` if it is out of the
+    receiver's tolerance there.
     """
 
     name = "pick_place"
 
     def __init__(self, workcell, part: str, target_pos, target_quat, *, approach=None, seat: bool = False,
-                 hold: float = 0.0, kin: PandaKinematics | None = None,
+                 hold: float = 0.0, receive: bool = False, kin: PandaKinematics | None = None,
                  params: SkillParams = SkillParams()) -> None:
         super().__init__(workcell, part, kin, params)
         self.target = Pose(np.asarray(target_pos, dtype=float), _quat_to_mat(target_quat))
@@ -351,6 +354,7 @@ class PickPlace(_Carry):
         self.approach_dir = a / np.linalg.norm(a)
         self.seat = seat
         self.hold = float(hold)
+        self.receive = receive
 
     def _program(self) -> Program:
         p = self.params
@@ -374,8 +378,9 @@ class PickPlace(_Carry):
                 return failure
             if self.hold > 0:
                 yield from self._hold(self.hold)
+            received = self.wc.receive(self.part, self.target.pos) if self.receive else None
             self.wc.release(self.holder, self.grasp_body)
-            seated = self.wc.seat(self.part) if self.seat else None
+            seated = self.wc.seat(self.part) if self.seat else received
             yield from self._open()
             yield from self._hold(p.settle)
         finally:
@@ -386,6 +391,10 @@ class PickPlace(_Carry):
         yield from self._hold(p.settle)
         error = float(np.linalg.norm(self.wc.body_pose(self.part)[0] - self.target.pos))
         if seated is not None and not seated.seated:
+            if self.receive:
+                return self._finish(SkillStatus.NOT_SEATED, f"{self.part} arrived "
+                                    f"{seated.pos_error * 1000:.1f} mm from the handover pose, outside the "
+                                    "receiver's tolerance", error)
             return self._finish(SkillStatus.NOT_SEATED, f"{self.part} ended {seated.pos_error * 1000:.1f} mm "
                                 f"and {seated.rot_error_deg:.1f} deg from its seat", error)
         return self._finish(SkillStatus.OK, f"{self.part} placed {error * 1000:.1f} mm from its target",

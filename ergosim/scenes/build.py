@@ -21,7 +21,7 @@ from ergosim.robot.mjcf import HOME_QPOS
 from ergosim.robot.model import compile_spec, panda_spec
 from ergosim.scenes.cellspec import Surface, Worker
 
-__all__ = ["weld_name", "seat_name", "yaw_quat", "new_spec", "add_table", "add_box",
+__all__ = ["weld_name", "seat_name", "receive_name", "yaw_quat", "new_spec", "add_table", "add_box",
            "attach_panda", "attach_human", "add_welds", "human_hand_bodies", "finish"]
 
 WOOD = (0.72, 0.6, 0.45, 1.0)
@@ -34,6 +34,11 @@ def weld_name(holder: str, part: str) -> str:
 
 def seat_name(part: str) -> str:
     return f"seat_{part}"
+
+
+def receive_name(part: str) -> str:
+    """The weld by which a receiver outside the cell holds ``part`` (the handover kind)."""
+    return f"receive_{part}"
 
 
 def yaw_quat(yaw_deg: float) -> list[float]:
@@ -143,9 +148,10 @@ def attach_human(spec: mujoco.MjSpec, worker: Worker) -> mujoco.MjModel:
     return kin
 
 
-def add_welds(spec: mujoco.MjSpec, hand_bodies: dict[str, str], parts, seats) -> None:
+def add_welds(spec: mujoco.MjSpec, hand_bodies: dict[str, str], parts, seats, received=()) -> None:
     """Inactive welds holder -> part for every holder in ``hand_bodies`` and every part in ``parts``, then
-    host -> part for every ``(host, part)`` of ``seats`` (a part seated in its slot)."""
+    host -> part for every ``(host, part)`` of ``seats`` (a part seated in its slot), then world -> part for
+    every part in ``received`` (taken by a receiver outside the cell)."""
     weld = dict(type=mujoco.mjtEq.mjEQ_WELD, objtype=mujoco.mjtObj.mjOBJ_BODY, active=False,
                 solref=[0.005, 1.0], solimp=[0.99, 0.999, 0.001, 0.5, 2])
     for holder, body in hand_bodies.items():
@@ -153,6 +159,8 @@ def add_welds(spec: mujoco.MjSpec, hand_bodies: dict[str, str], parts, seats) ->
             spec.add_equality(name=weld_name(holder, part), name1=body, name2=part, **weld)
     for host, part in seats:
         spec.add_equality(name=seat_name(part), name1=host, name2=part, **weld)
+    for part in received:
+        spec.add_equality(name=receive_name(part), name1="world", name2=part, **weld)
 
 
 def human_hand_bodies(spec: mujoco.MjSpec) -> dict[str, str]:

@@ -2,7 +2,8 @@
 
 Build order (it fixes body, geom and constraint order, and so the physics): furniture in file order, the
 robots, the human, the parts in file order, the slots' seat sites, the targets' sites, the welds (holders
-× parts, then one seat per inserted part in action order), the ``home`` keyframe.
+× parts, then one seat per inserted part in action order, then one receiver weld per part handed over),
+the ``home`` keyframe.
 """
 
 from __future__ import annotations
@@ -10,6 +11,7 @@ from __future__ import annotations
 import mujoco
 
 from ergosim.scenes import build
+from ergosim.scenes.action_kinds import action_kind
 from ergosim.scenes.cellspec import Box, CellSpec, Shelf, Table, quat_axis_to, rpy_quat, yaw_quat
 from ergosim.scenes.shapes import add_part_body
 from ergosim.scenes.workcell import ActionGeometry, Workcell
@@ -26,7 +28,7 @@ def action_geometry(spec: CellSpec) -> dict[str, ActionGeometry]:
     slots = spec.slots()
     out = {}
     for a in spec.actions:
-        if a.kind in ("insert", "fasten"):
+        if action_kind(a.kind).seats:
             target = seat_site(slots[a.target].host, a.part)
         else:
             target = a.target
@@ -88,7 +90,7 @@ def build_cell(spec: CellSpec) -> Workcell:
     slots = spec.slots()
     seats = []
     for a in spec.actions:
-        if a.kind not in ("insert", "fasten"):
+        if not action_kind(a.kind).seats:
             continue
         slot = slots[a.target]
         part = spec.part(a.part)
@@ -105,6 +107,7 @@ def build_cell(spec: CellSpec) -> Workcell:
     # insertion is a weld within tolerance (Workcell.seat), not a contact simulation of the fit
     for host, part in seats:
         m.add_exclude(bodyname1=host, bodyname2=part)
-    build.add_welds(m, hands, [p.name for p in spec.parts], seats)
+    received = list(dict.fromkeys(a.part for a in spec.actions if action_kind(a.kind).received))
+    build.add_welds(m, hands, [p.name for p in spec.parts], seats, received)
     model = build.finish(m, where=spec.source, has_robot=bool(spec.robots))
     return Workcell(spec, model, action_geometry(spec), hands, human=human)

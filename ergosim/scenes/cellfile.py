@@ -51,7 +51,8 @@ _TOP = {"name": "str", "description": "str", "timestep": "float", "seat_toleranc
         "seat_tolerance_deg": "float", "place_tolerance": "float", "carry_height": "float",
         "grasp_tolerance": "float"}
 _TABLES = ("aliases", "worker", "robots", "furniture", "parts", "targets", "actions", "views")
-_WORKER = {"xy": ("floats", 2), "yaw": "float", "hand": "str", "stature": "float", "human_scale": "pairs"}
+_WORKER = {"name": "str", "xy": ("floats", 2), "yaw": "float", "hand": "str", "stature": "float",
+           "human_scale": "pairs"}
 _ROBOT = {"model": "str", "base": ("floats", 3), "yaw": "float", "support": "str"}
 _FURNITURE = {
     "table": {"type": "str", "center": ("floats", 2), "size": ("floats", 2), "height": "float",
@@ -484,24 +485,35 @@ def _check_actions(spec: CellSpec, at) -> None:
         if a.part not in parts:
             raise ConfigError(f"unknown part {a.part!r}; parts: {', '.join(sorted(parts))}",
                               where=at(f"{entry}.part"))
-        if a.kind in ("insert", "fasten"):
+        kind = ACTION_KINDS[a.kind]
+        if kind.target == "slot":
             if a.target not in slots:
                 raise ConfigError(f"unknown slot {a.target!r}; slots: {', '.join(slots) or 'none'}",
                                   where=at(f"{entry}.target"))
             if slots[a.target].host == a.part:
                 raise ConfigError(f"{a.part} cannot go into its own slot", where=at(f"{entry}.target"))
-        elif a.target not in targets:
-            raise ConfigError(f"unknown target {a.target!r}; targets: {', '.join(targets) or 'none'}",
-                              where=at(f"{entry}.target"))
+        else:
+            want = "free" if kind.target == "free" else "place"
+            of_kind = [n for n, t in targets.items() if t.kind == want]
+            if a.target not in targets:
+                raise ConfigError(f"unknown target {a.target!r}; targets: {', '.join(targets) or 'none'}",
+                                  where=at(f"{entry}.target"))
+            if targets[a.target].kind != want:
+                what = ("a free target (pos = [x, y, z])" if want == "free"
+                        else "a place target on a surface (on, xy, part)")
+                raise ConfigError(f"a {a.kind} action goes to {what}; {a.target!r} is not one (those are: "
+                                  f"{', '.join(of_kind) or 'none'})", where=at(f"{entry}.target"))
         if a.handover is not None and (a.handover not in targets or targets[a.handover].kind != "free"):
             raise ConfigError(f"unknown handover pose {a.handover!r}; free targets: "
                               f"{', '.join(n for n, t in targets.items() if t.kind == 'free') or 'none'}",
                               where=at(f"{entry}.handover"))
-        if a.kind == "fasten" and not a.turn_time > 0:
-            raise ConfigError("a fasten action needs turn_time > 0 s", where=at(f"{entry}.turn_time"))
-        if a.kind != "fasten" and a.turn_time:
-            raise ConfigError("turn_time belongs to fasten actions", where=at(f"{entry}.turn_time"))
-    seats = [a.part for a in spec.actions if a.kind in ("insert", "fasten")]
+        if kind.holds and not a.turn_time > 0:
+            raise ConfigError(f"a {a.kind} action needs turn_time > 0 s", where=at(f"{entry}.turn_time"))
+        if not kind.holds and a.turn_time:
+            raise ConfigError(f"turn_time belongs to actions that hold a seated part ("
+                              f"{', '.join(k for k, v in ACTION_KINDS.items() if v.holds)}), not to "
+                              f"{a.kind}", where=at(f"{entry}.turn_time"))
+    seats = [a.part for a in spec.actions if ACTION_KINDS[a.kind].seats]
     dup = {p for p in seats if seats.count(p) > 1}
     if dup:
         raise ConfigError(f"a part is inserted by one action only, got {sorted(dup)} twice",

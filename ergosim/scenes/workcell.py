@@ -8,14 +8,15 @@ ordinary free bodies that rest and fall under gravity.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Literal, NamedTuple
+from typing import NamedTuple
 
 import mujoco
 import numpy as np
 
 from ergosim.errors import ConfigError
 from ergosim.human.mocap import MocapHuman
-from ergosim.scenes.build import seat_name, weld_name
+from ergosim.scenes.action_kinds import ActionKind, action_kind
+from ergosim.scenes.build import receive_name, seat_name, weld_name
 from ergosim.scenes.cellspec import CellSpec
 from ergosim.scenes.shapes import PART_COLLISION
 
@@ -26,22 +27,36 @@ __all__ = ["ActionGeometry", "SeatResult", "Workcell"]
 class ActionGeometry:
     """Where action ``action`` takes ``part``: the origin of ``part`` ends on site ``target``.
 
-    ``kind``: place | insert | fasten | remove (see :data:`~ergosim.scenes.cellspec.ACTION_KINDS`).
-    ``handover``: the site where a robot hands the part to the worker, else None (the robot finishes the
-    action itself). ``turn_time`` [s]: how long a fastener is held and turned once seated.
+    ``kind``: a registered kind (:mod:`ergosim.scenes.action_kinds`: place, insert, fasten, remove,
+    handover). ``handover``: the site where a robot hands the part to the worker, else None (the robot
+    finishes the action itself). ``turn_time`` [s]: how long a fastener is held and turned once seated.
     """
 
     action: str
     part: str
-    kind: Literal["place", "insert", "fasten", "remove"]
+    kind: str
     target: str
     handover: str | None = None
     turn_time: float = 0.0
 
     @property
+    def spec(self) -> ActionKind:
+        return action_kind(self.kind)
+
+    @property
     def seats(self) -> bool:
         """The action ends with the part seated in a slot (insert, fasten)."""
-        return self.kind in ("insert", "fasten")
+        return self.spec.seats
+
+    @property
+    def moves_assembly(self) -> bool:
+        """The part is taken with everything seated in it (remove, handover)."""
+        return self.spec.assembly
+
+    @property
+    def received(self) -> bool:
+        """The action ends with a receiver outside the cell holding the part (handover)."""
+        return self.spec.received
 
     @property
     def target_site(self) -> str:
@@ -91,12 +106,14 @@ class Workcell:
         self._body = {p: model.body(p).id for p in self.parts}
         self._hand = {h: model.body(b).id for h, b in hand_bodies.items()}
         self._weld = {(h, p): model.equality(weld_name(h, p)).id for h in hand_bodies for p in self.parts}
-        seated = [(spec.slots()[a.target], a.part) for a in spec.actions if a.kind in ("insert", "fasten")]
+        seated = [(spec.slots()[a.target], a.part) for a in spec.actions if action_kind(a.kind).seats]
         self._host = {p: slot.host for slot, p in seated}
         self._upright = {p: tuple(slot.axis) == (0.0, 0.0, 1.0) for slot, p in seated}
         self._seat = {p: model.equality(seat_name(p)).id for _, p in seated}
         self._hollow = {p: model.site(g.target).id for g in self.actions.values() if g.seats
                         for p in (g.part,)}
+        self._receive = {g.part: model.equality(receive_name(g.part)).id for g in self.actions.values()
+                         if g.received}
         self._collision_geoms = {p: np.flatnonzero((model.geom_bodyid == self._body[p])
                                                    & (model.geom_contype != 0)) for p in self.parts}
         self._all_collision_geoms = np.concatenate(list(self._collision_geoms.values()))
@@ -127,7 +144,7 @@ class Workcell:
     def reset_parts(self) -> None:
         """Lay the parts out again at their initial poses (welds off, at rest); robot and human untouched."""
         key_qpos = self.model.key_qpos[self.home_key]
-        for eq in (*self._weld.values(), *self._seat.values()):
+        for eq in (*self._weld.values(), *self._seat.values(), *self._receive.values()):
             self.data.eq_active[eq] = 0
         self.pass_through(self._all_collision_geoms, False)
         for part in self.parts:
@@ -274,6 +291,37 @@ class Workcell:
     def unseat(self, profile: str) -> None:
         self.data.eq_active[self._seat[profile]] = 0
         self._wake(self._body[self._host[profile]], self._body[profile])
+
+    # -- receivers and completion ---------------------------------------------------------------------------
+    def receive(self, part: str, pos) -> SeatResult:
+        """A receiver outside the cell (a second operator, a conveyor) takes ``part`` -- and what is seated in
+        it -- where it now is, if its origin lies within ``place_tolerance`` of ``pos`` (3,) [m] (the handover
+        kind's target): a weld to the world at the pose of that instant."""
+        if part not in self._receive:
+            raise ConfigError(f"only parts of handover actions are received, got {part!r}; they are: "
+                              f"{', '.join(self._receive) or 'none'}", where=self.name)
+        dist = float(np.linalg.norm(self.data.xpos[self._body[part]] - np.asarray(pos, dtype=float)))
+        ok = dist <= self.config.place_tolerance
+        if ok:
+            self._activate(self._receive[part], 0, self._body[part])
+        return SeatResult(ok, dist, 0.0)
+
+    def is_received(self, part: str) -> bool:
+        return part in self._receive and bool(self.data.eq_active[self._receive[part]])
+
+    def action_done(self, geom: ActionGeometry) -> bool:
+        """The completion check of ``geom``'s kind (:mod:`ergosim.scenes.action_kinds`), the same whoever did
+        the action: seated (insert, fasten); taken by the receiver (handover); else released with its origin
+        within ``place_tolerance`` of the target (place, remove)."""
+        if geom.seats:
+            return self.is_seated(geom.part)
+        if geom.received:
+            return self.is_received(geom.part)
+        if self.holder_of(geom.part) is not None:
+            return False
+        pos, _ = self.body_pose(geom.part)
+        target, _ = self.site_pose(geom.target)
+        return float(np.linalg.norm(pos - target)) <= self.config.place_tolerance
 
     def grasp_site(self, part: str) -> str:
         """Site the robot's TCP goes to for a top-down grasp of ``part``: its own grasp site, or, once a part

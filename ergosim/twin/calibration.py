@@ -74,6 +74,8 @@ class SceneCalibration:
             put_part(cell, geom.part, pos, quat)
             if geom.seats:
                 cell.seat(geom.part)
+            elif geom.received:
+                cell.receive(geom.part, pos)
         cell.reset_parts()
         self.passes.append(executions)
 

@@ -1,10 +1,10 @@
 """The robot's side of the loop: dispatch an action to a Panda skill and step it with the physics.
 
-A robot action is :class:`~ergosim.robot.skills.PickPlace` (the robot puts the part on its target, or
-seats a profile along its hollow's axis) or, where the scene defines a handover site (paper §7.2),
-:class:`~ergosim.robot.skills.Handover`: the robot brings the part to the pre-planned handover pose and
-waits until the worker's hand holds it. Skills set the controls one physics step at a time, so while a
-skill runs the plant steps MuJoCo one step per skill step.
+A robot action is :class:`~ergosim.robot.skills.PickPlace` (the robot puts the part on its target, seats
+it along its slot's axis, holds a fastener for its turns, or gives it to the receiver of a handover) or,
+where the action names a handover pose (paper §7.2), :class:`~ergosim.robot.skills.Handover`: the robot
+brings the part to that pose and waits until the worker's hand holds it. Skills set the controls one
+physics step at a time, so while a skill runs the plant steps MuJoCo one step per skill step.
 """
 
 from __future__ import annotations
@@ -69,7 +69,7 @@ class RobotTrack:
             axis = "xyz".index(cell.config.part(geom.part).insert_axis)
             approach = rot.reshape(3, 3)[:, axis]
         self.skill = PickPlace(cell, geom.part, pos, quat, approach=approach, seat=geom.seats,
-                               hold=geom.turn_time, kin=self.kin, params=self.params)
+                               hold=geom.turn_time, receive=geom.received, kin=self.kin, params=self.params)
 
     def _taken(self, part: str):
         def taken(wc) -> bool:

@@ -15,7 +15,7 @@ from ergosim.errors import ConfigError
 from ergosim.planner import AndOrGraph
 from ergosim.scenes import CellSpec
 
-__all__ = ["PANDA_MAX_OPENING", "check_scenario", "check_reachability"]
+__all__ = ["PANDA_MAX_OPENING", "check_scenario", "check_reachability", "precheck"]
 
 PANDA_MAX_OPENING = 0.08
 """Largest part width [m] the Panda's gripper closes on: its fingers open to 80 mm (Franka Emika Panda
@@ -40,14 +40,17 @@ def check_scenario(scenario, task: AndOrGraph, cell: CellSpec) -> None:
     allowed: dict[str, set[str]] = {}
     for op in task.operations:
         allowed.setdefault(op.action, set()).update(op.agents)
-    for agent in task.agents:
-        if agent.kind == "robot" and agent.name not in robots:
-            raise ConfigError(f"agent {agent.name!r} of the task has no body in the workcell; its robots: "
-                              f"{', '.join(robots) or 'none'}", where=where)
     humans = [a.name for a in task.agents if a.kind == "human"]
     if len(humans) != 1:
         raise ConfigError(f"the twin simulates one worker; the task has {len(humans)} human agents",
                           where=where)
+    bodies = {cell.worker.name: "human", **{r: "robot" for r in robots}}
+    for agent in task.agents:
+        if bodies.get(agent.name) != agent.kind:
+            have = f"the worker {cell.worker.name!r} (worker.name) and the robots {sorted(robots)}"
+            raise ConfigError(f"{agent.kind} agent {agent.name!r} of the task has no body in the workcell "
+                              f"({cell.source}), which has {have}",
+                              where=f"{where}: task agents.{agent.name}")
     for action, agents in allowed.items():
         part = cell.part(cell_actions[action].part)
         for agent in sorted(agents & robots):
@@ -57,6 +60,14 @@ def check_scenario(scenario, task: AndOrGraph, cell: CellSpec) -> None:
                     f"({part.grip_width * 1000:.0f} mm wide; the Panda opens "
                     f"{PANDA_MAX_OPENING * 1000:.0f} mm): give that operation agents = [\"{humans[0]}\"] "
                     "in the task", where=where)
+
+
+def precheck(scenario) -> None:
+    """Everything checked before a run of ``scenario`` starts that needs the built workcell: the
+    reachability of every action (:func:`check_reachability`) in the cell as the file describes it."""
+    from ergosim.scenes import build_cell  # noqa: PLC0415
+
+    check_reachability(scenario, scenario.task(), build_cell(scenario.cell()))
 
 
 def check_reachability(scenario, task: AndOrGraph, cell) -> None:

@@ -24,7 +24,7 @@ from ergosim.scenes import CellSpec, apply_cell_overrides, cell_document, parse_
 from ergosim.scenes.cellfile import read_toml
 from ergosim.twin.scenario import ScenarioConfig
 
-__all__ = ["Scenario", "register_scenario", "scenario_names", "scenario_path", "scenario_description",
+__all__ = ["Scenario", "register_scenario", "scenario_names", "scenario_path", "scenario_info",
            "load_scenario", "scenario_config", "split_overrides"]
 
 _TOP = {"name", "description", "task", "workcell", "protocol"}
@@ -58,9 +58,19 @@ def scenario_path(name_or_path: str | os.PathLike[str]) -> Path:
                       "(or the path of a scenario file)", where="ergosim run")
 
 
-def scenario_description(name: str) -> str:
-    doc = read_toml(scenario_path(name), what="scenario file")
-    return str(doc.get("description", ""))
+def scenario_info(name: str) -> dict[str, Any]:
+    """What ``ergosim scenarios`` shows of scenario ``name``, read from its file alone (nothing is built):
+    name, description, task, workcell, subjects, repetitions, modes and the file's path."""
+    path = scenario_path(name)
+    doc = read_toml(path, what="scenario file")
+    protocol = doc.get("protocol") if isinstance(doc.get("protocol"), dict) else {}
+    modes = protocol.get("modes", ())
+    return {"name": name, "description": str(doc.get("description", "")),
+            "task": doc.get("task") if isinstance(doc.get("task"), str) else "(inline)",
+            "workcell": doc.get("workcell") if isinstance(doc.get("workcell"), str) else "(inline)",
+            "subjects": protocol.get("subjects"), "repetitions": protocol.get("repetitions"),
+            "modes": [str(m) for m in modes] if isinstance(modes, list) else [str(modes)],
+            "path": str(path)}
 
 
 @dataclasses.dataclass(frozen=True)

@@ -61,13 +61,8 @@ class Session:
 
     # -- completion, detected in the scene -----------------------------------------------------------------
     def completed(self, geom) -> bool:
-        if geom.seats:
-            return self.cell.is_seated(geom.part)
-        if self.cell.holder_of(geom.part) is not None:
-            return False
-        pos, _ = self.cell.body_pose(geom.part)
-        target, _ = self.cell.site_pose(geom.target)
-        return float(np.linalg.norm(pos - target)) <= self.cell.config.place_tolerance
+        """The scene's completion check of the action's kind (:meth:`Workcell.action_done`)."""
+        return self.cell.action_done(geom)
 
     def _settle(self, geom, seconds: float = 1.0) -> bool:
         """Let a released part come to rest, then check completion (the scene decides, not a timer)."""
@@ -104,7 +99,7 @@ class Session:
             # part is not dragged to the hand by the grasp weld).
             return _Outcome(False, f"unreachable ({motion.reach_error * 100:.0f} cm short)", t0, plant.time)
         plant.track.start_action(motion)
-        grasp_part = cell.grasp_body(geom.part) if geom.kind == "remove" else geom.part
+        grasp_part = cell.grasp_body(geom.part) if geom.moves_assembly else geom.part
 
         # The worker's motion is kinematic and not collision-planned, like the human body itself: what the
         # worker carries (the grasped part, or the whole assembly) passes through the furniture and the robot
@@ -121,6 +116,8 @@ class Session:
             cell.pass_through(carried, False)
             if geom.seats:
                 cell.seat(geom.part)
+            elif geom.received:
+                cell.receive(geom.part, cell.site_pose(geom.target)[0])
 
         plant.on_grasp, plant.on_release = on_grasp, on_release
         plant.frame_hook = self._in_hand_turn(motion, geom, grasp_part)
@@ -247,7 +244,7 @@ class Session:
             subject=self.subject_index, mode=self.mode, allocations=self.allocations, ticks=plant.log,
             repetitions_completed=completed, takt_overruns=overruns, dt_tick=plant.dt_tick, v_th=cfg.v_th,
             failures=self.failures, decisions=self.decisions, bodies=bodies, horizon=horizon,
-            outcomes=self.outcomes,
+            outcomes=self.outcomes, human=self.allocator.human,
         )
 
     # -- what the outputs say about an attempt -------------------------------------------------------------

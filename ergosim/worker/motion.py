@@ -119,7 +119,8 @@ class Worker:
              handover: bool = False) -> ActionMotion:
         """Plan one execution of ``geometry`` from the current scene state.
 
-        ``geometry`` has ``part`` (the part's body name), ``kind`` (place | insert | fasten | remove) and
+        ``geometry`` has ``part`` (the part's body name), ``kind`` (an action kind,
+        :mod:`ergosim.scenes.action_kinds`), ``seats`` (the part ends in a slot: aligned and pushed in) and
         ``target`` or ``target_site`` (the site where the part's origin must end up); a fasten action also
         has ``turn_time`` [s], the time the fastener is held and turned once inserted.
 
@@ -183,9 +184,9 @@ class Worker:
         keys = [self.rest, k1, k2, k2, k3, k4, k5, k5, k5, k6, self.rest]
         hands = np.array([ik.hand_pos(k, side) for k in keys])
         grasp_dwell = self.HANDOVER_DWELL if handover else self.GRASP_DWELL
-        place_dwell = self.INSERT_DWELL if kind in ("insert", "fasten") else self.PLACE_DWELL
-        if kind == "fasten":
-            place_dwell = place_dwell + getattr(geometry, "turn_time", 0.0)
+        seats = getattr(geometry, "seats", kind in ("insert", "fasten"))
+        place_dwell = self.INSERT_DWELL if seats else self.PLACE_DWELL
+        place_dwell = place_dwell + getattr(geometry, "turn_time", 0.0)  # a fastener's turns, else 0
         moves = fitts_duration(np.linalg.norm(np.diff(hands, axis=0), axis=1), speed=self.subject.speed)
         # trial-to-trial timing jitter; always drawn, so the rng stream does not depend on its size
         moves = np.asarray(moves) * rng.lognormal(0.0, self.subject.timing_variability, len(moves))
@@ -200,7 +201,7 @@ class Worker:
         angles = interpolate_keyframes(key_t, np.asarray(keys), t)
         local = ik.hand_path(angles, side)
         hand_world = (local - self._root_pos) @ r_frame.T + frame[0]
-        kind_name = kind if kind in ("insert", "fasten") else "place"
+        kind_name = "fasten" if getattr(geometry, "turn_time", 0.0) else "insert" if seats else "place"
         phases = (
             Phase("reach", 0.0, key_t[2]),
             Phase("take" if handover else "grasp", key_t[2], key_t[3]),
