@@ -36,6 +36,7 @@ behaviours above (what the target is, whether the part seats, is held, moves its
 from __future__ import annotations
 
 import dataclasses
+import types
 from collections.abc import Mapping
 from typing import Literal
 
@@ -64,7 +65,7 @@ class ActionKind:
 
 
 _KINDS: dict[str, ActionKind] = {}
-ACTION_KINDS: Mapping[str, ActionKind] = _KINDS
+ACTION_KINDS: Mapping[str, ActionKind] = types.MappingProxyType(_KINDS)
 """Registered kinds by name (a live, read-only view of the registry)."""
 
 

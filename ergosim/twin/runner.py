@@ -12,6 +12,7 @@ import numpy as np
 
 from ergosim.ergonomics.kwear import kwear_trajectory
 from ergosim.ergonomics.risk_index import KWearIndex
+from ergosim.errors import ConfigError
 from ergosim.posture import KWEAR_JOINTS
 from ergosim.scenes import Workcell, build_cell
 from ergosim.twin.allocator import Allocator
@@ -26,7 +27,8 @@ from ergosim.twin.worker_track import WorkerTrack
 from ergosim.worker.motion import Worker
 from ergosim.worker.subjects import Subject, make_subjects
 
-__all__ = ["SubjectResult", "Rig", "subject_cell", "build_rig", "make_allocator", "run_subject"]
+__all__ = ["SubjectResult", "Rig", "subject_cell", "build_rig", "make_allocator", "subject_session",
+           "run_subject"]
 
 
 @dataclasses.dataclass
@@ -108,6 +110,34 @@ def make_allocator(scenario: Scenario, mode_name: str, rig: Rig, calibration) ->
     return Allocator(rig.graph, mode, index=index, cost=cost, planner=cfg.planner)
 
 
+def _session(scenario: Scenario, index: int, subject: Subject, mode: str, rng: np.random.Generator,
+             calibration, record_bodies: bool = False) -> Session:
+    rig = build_rig(scenario, subject, rng, record_bodies=record_bodies,
+                    alphas=calibration.alphas if calibration is not None else None)
+    allocator = make_allocator(scenario, mode, rig, calibration)
+    return Session(cfg=scenario.protocol, mode=mode, subject_index=index, worker=rig.worker, plant=rig.plant,
+                   robot=rig.robot, allocator=allocator, rng=rng)
+
+
+def subject_session(scenario: Scenario, index: int, seed: int, mode: str, *, calibrate: bool = True,
+                    record_bodies: bool = False) -> Session:
+    """A ready :class:`Session` of subject ``index`` of ``seed``'s population in ``mode``, for stepping by
+    hand: ``session.run(n)`` repetitions, or ``session.perform(action, agent)`` one action at a time.
+
+    ``calibrate``: calibrate the subject first (§5), as a run does; a mode without a risk index (``h-only``,
+    ``r-only``) may skip it. Draws from ``SeedSequence([seed, index])`` like the subject's run, whose first
+    mode it then equals."""
+    mode_spec = get_mode(mode)
+    if not calibrate and mode_spec.risk_index is not None:
+        raise ConfigError(f"mode {mode!r} prices the worker with risk index {mode_spec.risk_index!r}, which "
+                          "needs the subject's calibration: calibrate=True", where="subject_session")
+    subject = make_subjects(index + 1, seed)[index]
+    seqs = np.random.SeedSequence([seed, index]).spawn(2)
+    calibration = _calibrate(scenario, subject, np.random.default_rng(seqs[0]))[0] if calibrate else None
+    return _session(scenario, index, subject, mode, np.random.default_rng(seqs[1]), calibration,
+                    record_bodies=record_bodies)
+
+
 def run_subject(scenario: Scenario, index: int, seed: int, modes: tuple[str, ...],
                 record_mode: str | None = None) -> SubjectResult:
     """Calibrate subject ``index`` of ``seed``'s population, then run each mode from zero wear.
@@ -119,11 +149,8 @@ def run_subject(scenario: Scenario, index: int, seed: int, modes: tuple[str, ...
     calibration, traces = _calibrate(scenario, subject, np.random.default_rng(seqs[0]))
     runs: dict[str, SubjectRun] = {}
     for mode, seq in zip(modes, seqs[1:], strict=True):
-        rng = np.random.default_rng(seq)
-        rig = build_rig(scenario, subject, rng, record_bodies=mode == record_mode, alphas=calibration.alphas)
-        allocator = make_allocator(scenario, mode, rig, calibration)
-        session = Session(cfg=cfg, mode=mode, subject_index=index, worker=rig.worker, plant=rig.plant,
-                          robot=rig.robot, allocator=allocator, rng=rng)
+        session = _session(scenario, index, subject, mode, np.random.default_rng(seq), calibration,
+                           record_bodies=mode == record_mode)
         runs[mode] = session.run(cfg.repetitions)
         runs[mode].calibration_eta = calibration.eta
     return SubjectResult(

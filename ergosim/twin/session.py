@@ -20,7 +20,7 @@ from ergosim.twin.modes import get_mode
 from ergosim.twin.records import Allocation, Failure, RepetitionOutcome, SubjectRun
 from ergosim.worker.motion import Worker
 
-__all__ = ["Session"]
+__all__ = ["Session", "Outcome"]
 
 # Time allowed to any single action before it counts as failed [s of simulated time]; the slowest robot
 # action at 0.05 m/s takes about 30 s, the slowest human action about 8 s.
@@ -30,8 +30,12 @@ _ACTION_TIMEOUT = 180.0
 _HUMAN_ATTEMPTS = 3
 
 
-@dataclasses.dataclass
-class _Outcome:
+@dataclasses.dataclass(frozen=True)
+class Outcome:
+    """How one attempt at an action ended: ``ok`` when the scene's completion check of the action's kind
+    passed; ``status`` ``ok`` or the failure (a robot skill's status, or the worker's ``unreachable (N cm
+    short)``, ``not_completed``, ``timeout``); sim times [s]; ``message`` in words."""
+
     ok: bool
     status: str
     t_start: float
@@ -90,14 +94,14 @@ class Session:
         eq = cell.model.equality(weld_name(self.hand, body)).id
         return InHandTurn(cell.model, eq, pos1, quat1, start, end)
 
-    def _worker_action(self, geom, handover: bool = False) -> _Outcome:
+    def _worker_action(self, geom, handover: bool = False) -> Outcome:
         plant, cell = self.plant, self.cell
         t0 = plant.time
         motion = self.worker.plan(cell, geom, self.rng, action=geom.action, handover=handover)
         if motion.reach_error > cell.config.grasp_tolerance:
             # The hand cannot get to the part from where the worker stands: the action is not done (and the
             # part is not dragged to the hand by the grasp weld).
-            return _Outcome(False, f"unreachable ({motion.reach_error * 100:.0f} cm short)", t0, plant.time)
+            return Outcome(False, f"unreachable ({motion.reach_error * 100:.0f} cm short)", t0, plant.time)
         plant.track.start_action(motion)
         grasp_part = cell.grasp_body(geom.part) if geom.moves_assembly else geom.part
 
@@ -128,10 +132,10 @@ class Session:
             cell.pass_through(carried, False)
         ok = finished and self._settle(geom, 0.5)
         status = "ok" if ok else ("timeout" if not finished else "not_completed")
-        return _Outcome(ok, status, t0, plant.time)
+        return Outcome(ok, status, t0, plant.time)
 
     # -- the robot does an action --------------------------------------------------------------------------
-    def _robot_action(self, geom) -> _Outcome:
+    def _robot_action(self, geom) -> Outcome:
         plant = self.plant
         t0 = plant.time
         self.robot.start(geom, plant)
@@ -143,20 +147,33 @@ class Session:
             # The worker takes the part from the gripper and inserts it (paper §7.2, Fig. 8 bottom).
             out = self._worker_action(geom, handover=True)
             plant.run_until(lambda: self.robot.done, _ACTION_TIMEOUT)
-            return _Outcome(out.ok, out.status, t0, plant.time,
+            return Outcome(out.ok, out.status, t0, plant.time,
                             "" if out.ok else f"the worker did not complete the handover ({out.status})")
         if not plant.run_until(lambda: self.robot.done, _ACTION_TIMEOUT):
-            return _Outcome(False, "timeout", t0, plant.time)
+            return Outcome(False, "timeout", t0, plant.time)
         if not self.robot.ok:
             return self._robot_failure(t0)
         if geom.seats:
             self.cell.seat(geom.part)
         ok = self._settle(geom, 1.0)
-        return _Outcome(ok, "ok" if ok else "not_completed", t0, plant.time)
+        return Outcome(ok, "ok" if ok else "not_completed", t0, plant.time)
 
-    def _robot_failure(self, t0: float) -> _Outcome:
+    def _robot_failure(self, t0: float) -> Outcome:
         self.plant.run_until(lambda: self.robot.done, _ACTION_TIMEOUT)
-        return _Outcome(False, self.robot.status_name, t0, self.plant.time, self.robot.message)
+        return Outcome(False, self.robot.status_name, t0, self.plant.time, self.robot.message)
+
+    def perform(self, action: str, agent: str) -> Outcome:
+        """``agent`` does ``action`` now, from the scene as it is: the worker's planned motion (KWear counting
+        it as the action, eq. 3) or the robot's skill, then the scene's completion check of the action's
+        kind. Nothing is decided or recorded; :meth:`run` calls this for every decision."""
+        geom = self.cell.actions[action]
+        if agent != self.allocator.human:
+            return self._robot_action(geom)
+        self.plant.kwear.start_action(action)
+        try:
+            return self._worker_action(geom)
+        finally:
+            self.plant.kwear.finish_action()  # the online α update of §5, when enabled
 
     # -- repetitions ---------------------------------------------------------------------------------------
     def _repetition(self, rep: int) -> bool:
@@ -175,13 +192,7 @@ class Session:
             if decision is None:
                 return True
             self.decisions.append(decision)
-            geom = self.cell.actions[decision.action]
-            if decision.agent == alloc.human:
-                plant.kwear.start_action(decision.action)
-                out = self._worker_action(geom)
-                plant.kwear.finish_action()  # the online α update of §5, when enabled
-            else:
-                out = self._robot_action(geom)
+            out = self.perform(decision.action, decision.agent)
             attempt = sum(a.action == decision.action for a in self.allocations if a.repetition == rep) + 1
             if out.ok:
                 done.append(decision.operation)
