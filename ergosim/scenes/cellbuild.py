@@ -13,6 +13,7 @@ import mujoco
 from ergosim.scenes import build
 from ergosim.scenes.action_kinds import action_kind
 from ergosim.scenes.cellspec import Box, CellSpec, Shelf, Table, quat_axis_to, rpy_quat, yaw_quat
+from ergosim.scenes.clearance import check_clearance
 from ergosim.scenes.shapes import add_part_body
 from ergosim.scenes.workcell import ActionGeometry, Workcell
 
@@ -110,4 +111,6 @@ def build_cell(spec: CellSpec) -> Workcell:
     received = list(dict.fromkeys(a.part for a in spec.actions if action_kind(a.kind).received))
     build.add_welds(m, hands, [p.name for p in spec.parts], seats, received)
     model = build.finish(m, where=spec.source, has_robot=bool(spec.robots))
-    return Workcell(spec, model, action_geometry(spec), hands, human=human)
+    cell = Workcell(spec, model, action_geometry(spec), hands, human=human)
+    check_clearance(spec, cell.model, cell.data)  # nothing starts inside furniture (at the home keyframe)
+    return cell

@@ -197,7 +197,14 @@ def apply_cell_overrides(doc: Mapping[str, Any], overrides: Mapping[str, Any], w
                 node = node.setdefault(k, {})
             node[last] = _coerce(value, _kind_of(out, path), key, where) if isinstance(value, str) \
                 else value
+            for other in _EXCLUSIVE.get((head[0], last), ()) if head else ():
+                node.pop(other, None)  # a full pose replaces a resting placement, and the other way round
     return out
+
+
+_EXCLUSIVE = {("parts", "pos"): ("xy", "on"), ("parts", "xy"): ("pos", "rpy"),
+              ("parts", "on"): ("pos", "rpy"), ("targets", "pos"): ("xy", "on", "part")}
+"""Setting the first field of a placement by override drops the fields of the other kind of placement."""
 
 
 def _kind_of(doc: Mapping[str, Any], path: str) -> Any:
@@ -400,9 +407,17 @@ def _check(spec: CellSpec, at) -> None:
         need(r.support is None or r.support in surfaces, f"{entry}.support",
              f"unknown surface {r.support!r}; surfaces: {', '.join(surfaces)}")
         if r.support is not None:
-            need(r.base[2] >= surfaces[r.support].height - 1e-6, f"{entry}.base",
-                 f"the robot base at z={r.base[2]} is below its support {r.support} "
-                 f"(top at {surfaces[r.support].height} m)")
+            top = surfaces[r.support]
+            need(r.base[2] >= top.height - 1e-6, f"{entry}.base",
+                 f"the robot base at z={r.base[2]} m is below the top of its support {r.support} "
+                 f"({top.height} m): it would stand inside it; raise the base or lower the {r.support}")
+            need(top.contains(r.base[:2]), f"{entry}.base",
+                 f"the robot base at xy={r.base[:2]} is not over its support {r.support} (centre "
+                 f"{top.center}, size {top.size})")
+        else:
+            need(abs(r.base[2]) <= 0.005, f"{entry}.base",
+                 f"the robot base at z={r.base[2]} m has nothing under it: give support = \"SURFACE\" (a "
+                 "pedestal fills the gap) or stand it on the floor (z = 0)")
         for f in spec.furniture:
             for c, h in f.boxes():
                 if np.all(np.abs(np.asarray(r.base) - c) < h - 1e-6):

@@ -91,10 +91,13 @@ class Scenario:
         return task_from_dict(dict(self.task_doc), source=self.task_source)
 
     def cell(self, **extra: Any) -> CellSpec:
-        """The workcell with ``extra`` (e.g. a subject's body) and then the scenario's overrides applied."""
+        """The workcell with ``extra`` (e.g. a subject's body) and then the scenario's overrides applied.
+        Messages name the file with the overrides, e.g. ``multi-subject.toml (with
+        scene.side_table_height=1.15)``, so a problem an override made says which one."""
         overrides = {**extra, **dict(self.cell_overrides)}
         doc = apply_cell_overrides(self.cell_doc, overrides, where=f"{self.cell_source} (overrides)")
-        return parse_cell(doc, source=self.cell_source)
+        said = ", ".join(f"scene.{k}={_said(v)}" for k, v in self.cell_overrides.items())
+        return parse_cell(doc, source=f"{self.cell_source} (with {said})" if said else self.cell_source)
 
     def with_overrides(self, overrides: Mapping[str, Any], where: str = "--set") -> Scenario:
         """A copy with protocol fields and workcell fields overridden (see :func:`split_overrides`)."""
@@ -106,6 +109,13 @@ class Scenario:
         if cell:
             new.cell()  # a bad workcell key or value fails now, before any simulation
         return new
+
+
+def _said(value: Any) -> str:
+    """An override value as ``--set`` would spell it."""
+    if isinstance(value, list | tuple):
+        return ",".join(_said(v) for v in value)
+    return str(value)
 
 
 def split_overrides(overrides: Mapping[str, Any]) -> tuple[dict[str, Any], dict[str, Any]]:
