@@ -172,6 +172,10 @@ def cell_keys(doc: Mapping[str, Any]) -> list[str]:
         for name, table in (doc.get(section) or {}).items():
             if isinstance(table, dict):
                 keys += [f"{section}.{name}.{k}" for k in schema_of(table) if k not in ("type", "slots")]
+    for name, table in (doc.get("parts") or {}).items():
+        for slot in (table.get("slots") or []) if isinstance(table, dict) else []:
+            if isinstance(slot, dict) and isinstance(slot.get("name"), str):
+                keys += [f"parts.{name}.slots.{slot['name']}.{k}" for k in _SLOT if k != "name"]
     return keys + sorted(doc.get("aliases") or {})
 
 
@@ -193,7 +197,10 @@ def apply_cell_overrides(doc: Mapping[str, Any], overrides: Mapping[str, Any], w
                                   f"as parts.<name>.xy)", where=where)
             node = out
             *head, last = path.split(".")
-            for k in head:
+            for i, k in enumerate(head):
+                if k == "slots" and i == 2:  # [[parts.P.slots]] is an array: a slot is named by its name
+                    node = next(s for s in node["slots"] if s.get("name") == head[3])
+                    break
                 node = node.setdefault(k, {})
             node[last] = _coerce(value, _kind_of(out, path), key, where) if isinstance(value, str) \
                 else value
@@ -214,6 +221,8 @@ def _kind_of(doc: Mapping[str, Any], path: str) -> Any:
     if parts[0] == "worker":
         return _WORKER[parts[1]]
     section, name, key = parts[0], parts[1], parts[2]
+    if key == "slots":
+        return _SLOT[parts[4]]
     if section == "furniture":
         return _FURNITURE[doc["furniture"][name].get("type", "table")][key]
     schemas = {"robots": _ROBOT, "parts": _PART, "targets": _TARGET, "actions": _ACTION, "views": _VIEW}
