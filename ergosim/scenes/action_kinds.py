@@ -40,6 +40,8 @@ import types
 from collections.abc import Mapping
 from typing import Literal
 
+from ergosim.plugins import note_caller
+
 __all__ = ["ActionKind", "ACTION_KINDS", "register_action_kind", "action_kind"]
 
 
@@ -70,7 +72,8 @@ ACTION_KINDS: Mapping[str, ActionKind] = types.MappingProxyType(_KINDS)
 
 
 def register_action_kind(kind: ActionKind) -> None:
-    """Make ``kind`` usable as ``kind = "NAME"`` in workcell files."""
+    """Make ``kind`` usable as ``kind = "NAME"`` in workcell files, in worker processes too."""
+    note_caller()
     if kind.target not in ("place", "slot", "free"):
         raise ValueError(f"target must be place, slot or free, got {kind.target!r}")
     if kind.holds and not kind.seats:

@@ -13,6 +13,7 @@ from pathlib import Path
 from typing import Any
 
 from ergosim.errors import ConfigError
+from ergosim.plugins import note_caller
 from ergosim.scenes.cellbuild import build_cell
 from ergosim.scenes.cellfile import apply_cell_overrides, parse_cell, read_cell_file
 from ergosim.scenes.cellspec import CellSpec
@@ -26,6 +27,7 @@ _SCENES: dict[str, Path] = {}
 
 def register_scene(name: str, path: str | os.PathLike[str]) -> None:
     """Make the workcell file at ``path`` buildable by ``name``."""
+    note_caller()
     _SCENES[name] = Path(path)
 
 

@@ -26,6 +26,7 @@ import numpy as np
 from ergosim.ergonomics.cost import CostParams, rula_baseline_params
 from ergosim.ergonomics.risk_index import RiskIndex, StaticRulaIndex
 from ergosim.errors import ConfigError
+from ergosim.plugins import note_caller
 from ergosim.viz.reason import allocation_reason
 
 __all__ = ["Mode", "RiskIndexEntry", "IndexContext", "register_mode", "register_risk_index", "get_mode",
@@ -93,12 +94,14 @@ _INDICES: dict[str, RiskIndexEntry] = {}
 
 
 def register_mode(mode: Mode) -> None:
-    """Make ``mode`` available by name (``--mode``, a scenario's ``modes``)."""
+    """Make ``mode`` available by name (``--mode``, a scenario's ``modes``), in worker processes too."""
+    note_caller()
     _MODES[mode.name] = mode
 
 
 def register_risk_index(entry: RiskIndexEntry) -> None:
-    """Make a risk index available by name to the modes."""
+    """Make a risk index available by name to the modes, in worker processes too."""
+    note_caller()
     _INDICES[entry.name] = entry
 
 

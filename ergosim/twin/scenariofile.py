@@ -21,6 +21,7 @@ from ergosim.overrides import apply_overrides
 from ergosim.planner import AndOrGraph, bundled_task_source, bundled_task_text, task_from_dict
 from ergosim.planner.bundled import BUNDLED_TASKS
 from ergosim.planner.task_overrides import apply_task_overrides
+from ergosim.plugins import note_caller
 from ergosim.scenes import CellSpec, apply_cell_overrides, cell_document, parse_cell
 from ergosim.scenes.cellfile import read_toml
 from ergosim.twin.scenario import ScenarioConfig
@@ -35,7 +36,9 @@ _SCENARIOS: dict[str, Path] = {}
 
 
 def register_scenario(name: str, path: str | os.PathLike[str]) -> None:
-    """Make the scenario file at ``path`` runnable by ``name`` (``ergosim run NAME``)."""
+    """Make the scenario file at ``path`` runnable by ``name`` (``ergosim run NAME``, ``ergosim
+    scenarios``)."""
+    note_caller()
     _SCENARIOS[name] = Path(path)
 
 
