@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import csv
 import json
+
 from own_product import CELL, TASK, write_product
 
 from ergosim.cli import main
