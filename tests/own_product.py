@@ -168,3 +168,14 @@ def write_product(folder: Path, *, task: str = TASK, cell: str = CELL, scenario:
     path = folder / "bracket.toml"
     path.write_text(scenario)
     return path
+
+
+def two_robots(task: str = TASK, cell: str = CELL) -> tuple[str, str]:
+    """The bracket with a second Panda, ``robot2``, on the bench's right: the task lets it (and not
+    ``robot``) insert the pin, b2."""
+    task = task.replace('cost = 2.5\n', 'cost = 2.5\n[agents.robot2]\nkind = "robot"\ncost = 2.6\n', 1)
+    task = task.replace('parts = ["base", "pin"]\naction = "b2"\n',
+                        'parts = ["base", "pin"]\naction = "b2"\nagents = ["human", "robot2"]\n')
+    cell = cell.replace("[furniture.bench]", '[robots.robot2]\nbase = [0.90, -0.35, 0.9]\nyaw = 180.0\n'
+                        'support = "bench"\n\n[furniture.bench]')
+    return task, cell

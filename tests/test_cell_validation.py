@@ -8,7 +8,7 @@ own scenario, task and workcell files (``own_product.py``) with one thing wrong.
 from __future__ import annotations
 
 import pytest
-from own_product import CELL, TASK, write_product
+from own_product import CELL, TASK, two_robots, write_product
 from test_hostile_inputs import _one_line_error as one_line_error
 
 from ergosim.cli import main
@@ -69,6 +69,14 @@ def test_a_robot_standing_inside_other_furniture(capsys, tmp_path):
     _refused(capsys, tmp_path, "gearbox", "scene.robot_base=0.48,0.2,0.9",
              needles=(GB, "robots.robot.base", "the robot stands inside furniture 'riser'",
                       "mm inside riser"))
+
+
+def test_two_robots_standing_in_each_other(capsys, tmp_path):
+    task, cell = two_robots()
+    cell = cell.replace("base = [0.90, -0.35, 0.9]", "base = [0.90, -0.05, 0.9]")
+    _refused(capsys, tmp_path, _own(tmp_path, task=task, cell=cell),
+             needles=("bracket_cell.toml", "robots.robot2.base",
+                      "robots 'robot' and 'robot2' intersect at their ready poses"))
 
 
 # -- a part intersecting furniture or floating ---------------------------------------------------------------

@@ -20,7 +20,7 @@ import numpy as np
 
 from ergosim.robot.ik import solve_ik
 from ergosim.robot.kinematics import PandaKinematics
-from ergosim.robot.mjcf import ARM_JOINTS, HOME_QPOS
+from ergosim.robot.mjcf import HOME_QPOS
 from ergosim.robot.status import SkillResult, SkillStatus
 from ergosim.robot.trajectory import (
     BaseFrame,
@@ -67,26 +67,29 @@ def _flip_z(rot: np.ndarray) -> np.ndarray:
 
 class Skill(ABC):
     """A robot skill bound to a workcell (the extension point for new skills): subclasses write
-    :meth:`_program`, a generator yielding once per physics step and returning a SkillResult."""
+    :meth:`_program`, a generator yielding once per physics step and returning a SkillResult. ``robot``:
+    which of the cell's robots (its task agent's name; default the first)."""
 
     name = "skill"
 
     def __init__(self, workcell, part: str, kin: PandaKinematics | None = None,
-                 params: SkillParams = SkillParams()) -> None:
+                 params: SkillParams = SkillParams(), robot: str | None = None) -> None:
         self.wc = workcell
-        self.holder = workcell.robots[0]  # the holder name of the cell's robot (its task agent)
+        handle = workcell.robot(robot)
+        self.holder = handle.name  # the holder name of the robot (its task agent)
         self.part = part
         self.kin = kin or PandaKinematics()
         self.params = params
         m = workcell.model
         self.dt = float(m.opt.timestep)
-        self._arm_q = np.array([m.joint(j).qposadr[0] for j in ARM_JOINTS])
-        self._finger_q = np.array([m.joint(f"panda_finger_joint{i}").qposadr[0] for i in (1, 2)])
-        self._tcp = m.site("panda_tcp").id
-        self._pads = {f: {g for g in range(m.ngeom) if m.geom_bodyid[g] == m.body(f).id and m.geom_contype[g]}
-                      for f in ("panda_leftfinger", "panda_rightfinger")}
-        self._gripper_open = float(m.actuator_ctrlrange[7, 1])
-        pos, quat = workcell.robot_base_pose()
+        self._arm_q = handle.arm_qpos
+        self._finger_q = handle.finger_qpos
+        self._tcp = handle.tcp
+        self._arm_ctrl, self._grip = handle.arm_ctrl, handle.grip_ctrl
+        self._pads = [{g for g in range(m.ngeom) if m.geom_bodyid[g] == m.body(f).id and m.geom_contype[g]}
+                      for f in handle.fingers]
+        self._gripper_open = handle.gripper_open(m)
+        pos, quat = workcell.robot_base_pose(handle.name)
         self.base = BaseFrame(pos, _quat_to_mat(quat))
         self._steps = 0
         self._result: SkillResult | None = None
@@ -173,9 +176,10 @@ class Skill(ABC):
     def _follow(self, traj: np.ndarray, grip: float | None = None) -> Iterator[None]:
         ctrl = self.wc.data.ctrl
         if grip is not None:
-            ctrl[7] = grip
+            ctrl[self._grip] = grip
+        arm = self._arm_ctrl
         for row in traj:
-            ctrl[:7] = row
+            ctrl[arm] = row
             yield
 
     def _hold(self, seconds: float) -> Iterator[None]:
@@ -185,7 +189,7 @@ class Skill(ABC):
     def _touching(self, body: int) -> tuple[bool, bool]:
         d, m = self.wc.data, self.wc.model
         left = right = False
-        lp, rp = self._pads["panda_leftfinger"], self._pads["panda_rightfinger"]
+        lp, rp = self._pads
         for i in range(d.ncon):
             c = d.contact[i]
             g1, g2 = c.geom1, c.geom2
@@ -203,23 +207,25 @@ class Skill(ABC):
         body = self.wc.model.body(body_name).id
         rate = self.params.finger_speed * self.dt
         stalled = 0
+        g = self._grip
         while True:
-            d.ctrl[7] = max(0.0, d.ctrl[7] - rate)
+            d.ctrl[g] = max(0.0, d.ctrl[g] - rate)
             yield
             left, right = self._touching(body)
             if left and right:
                 self.wc.grasp(self.holder, body_name)
-                d.ctrl[7] = d.qpos[self._finger_q].mean()  # hold the fingers where they touch the part
+                d.ctrl[g] = d.qpos[self._finger_q].mean()  # hold the fingers where they touch the part
                 return True
-            stalled = stalled + 1 if d.ctrl[7] == 0.0 else 0
+            stalled = stalled + 1 if d.ctrl[g] == 0.0 else 0
             if d.qpos[self._finger_q].mean() < width / 2 - 0.004 or stalled * self.dt > 0.3:
                 return False
 
     def _open(self) -> Iterator[None]:
         d = self.wc.data
         rate = self.params.finger_speed * self.dt
-        while d.ctrl[7] < self._gripper_open:
-            d.ctrl[7] = min(self._gripper_open, d.ctrl[7] + rate)
+        g = self._grip
+        while d.ctrl[g] < self._gripper_open:
+            d.ctrl[g] = min(self._gripper_open, d.ctrl[g] + rate)
             yield
 
     def _home(self, q_from: np.ndarray, tcp_from: Pose) -> np.ndarray:
@@ -244,8 +250,8 @@ class _Carry(Skill):
     """Shared program: reach, grasp, carry to a TCP pose; subclasses decide what happens there."""
 
     def __init__(self, workcell, part: str, kin: PandaKinematics | None = None,
-                 params: SkillParams = SkillParams()) -> None:
-        super().__init__(workcell, part, kin, params)
+                 params: SkillParams = SkillParams(), robot: str | None = None) -> None:
+        super().__init__(workcell, part, kin, params, robot)
         self.grasp_site = workcell.grasp_site(part)
         self.grasp_body = workcell.grasp_body(part)
         self.width = workcell.grip_width(self.grasp_body)
@@ -319,8 +325,9 @@ class _Carry(Skill):
         tol = self.wc.config.grasp_tolerance
         tcp = self._tcp_world()
         grip = tcp.rot.T @ (d.site_xpos[site] - tcp.pos)  # where the part sits in the hand
+        arm = self._arm_ctrl
         for i, row in enumerate(carry):
-            d.ctrl[:7] = row
+            d.ctrl[arm] = row
             yield
             if i % every == 0 and np.linalg.norm(d.site_xmat[self._tcp].reshape(3, 3).T
                                                  @ (d.site_xpos[site] - d.site_xpos[self._tcp]) - grip) > tol:
@@ -347,8 +354,8 @@ class PickPlace(_Carry):
 
     def __init__(self, workcell, part: str, target_pos, target_quat, *, approach=None, seat: bool = False,
                  hold: float = 0.0, receive: bool = False, kin: PandaKinematics | None = None,
-                 params: SkillParams = SkillParams()) -> None:
-        super().__init__(workcell, part, kin, params)
+                 params: SkillParams = SkillParams(), robot: str | None = None) -> None:
+        super().__init__(workcell, part, kin, params, robot)
         self.target = Pose(np.asarray(target_pos, dtype=float), _quat_to_mat(target_quat))
         a = np.array([0.0, 0.0, 1.0]) if approach is None else np.asarray(approach, dtype=float)
         self.approach_dir = a / np.linalg.norm(a)
@@ -414,8 +421,9 @@ class Handover(_Carry):
     name = "handover"
 
     def __init__(self, workcell, part: str, pos, quat, taken: Callable[[object], bool] | None = None, *,
-                 kin: PandaKinematics | None = None, params: SkillParams = SkillParams()) -> None:
-        super().__init__(workcell, part, kin, params)
+                 kin: PandaKinematics | None = None, params: SkillParams = SkillParams(),
+                 robot: str | None = None) -> None:
+        super().__init__(workcell, part, kin, params, robot)
         self.target = Pose(np.asarray(pos, dtype=float), _quat_to_mat(quat))
         self.taken = taken or _worker_holds(part)
         self.hand_error = float("nan")

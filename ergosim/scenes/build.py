@@ -17,6 +17,7 @@ import numpy as np
 from ergosim.human.mjcf import HOME_POSTURE
 from ergosim.human.mocap import add_mocap_segments
 from ergosim.human.model import HAND_SITES, ROOT_BODY, HumanModel, human_spec
+from ergosim.robot.handle import PandaHandle
 from ergosim.robot.mjcf import HOME_QPOS
 from ergosim.robot.model import compile_spec, panda_spec
 from ergosim.scenes.cellspec import Surface, Worker
@@ -111,20 +112,21 @@ def add_table(spec: mujoco.MjSpec, surface: Surface, thickness: float = 0.04, le
 
 
 def attach_panda(spec: mujoco.MjSpec, base, yaw: float, timestep: float,
-                 support_height: float | None = None) -> None:
+                 support_height: float | None = None, prefix: str = "") -> None:
     """The Panda's ``panda_link0`` at ``base`` (3,) [m] turned by ``yaw`` [deg]; a pedestal fills any gap down
-    to ``support_height`` [m]."""
+    to ``support_height`` [m]. ``prefix`` goes before every name of this Panda (a cell's second robot:
+    ``robot2.``; the first keeps the MJCF's names, :func:`~ergosim.robot.handle.robot_prefix`)."""
     x, y, z = base
     if support_height is not None and z - support_height > 0.005:
         half = (z - support_height) / 2
-        add_box(spec, "robot_pedestal", (x - 0.04, y, support_height + half), (0.13, 0.11, half))
-    frame = spec.worldbody.add_frame(name="robot_base", pos=list(base), quat=yaw_quat(yaw))
+        add_box(spec, f"{prefix}robot_pedestal", (x - 0.04, y, support_height + half), (0.13, 0.11, half))
+    frame = spec.worldbody.add_frame(name=f"{prefix}robot_base", pos=list(base), quat=yaw_quat(yaw))
     panda = panda_spec()
     panda.option.timestep = timestep  # the scene's options win; equal values avoid a conflict notice
     with _quiet_attach():
-        frame.attach_body(panda.body("panda_link0"), "", "")
+        frame.attach_body(panda.body("panda_link0"), prefix, "")
     # the first link turns just above its mount: its hull would only ever graze the support it stands on
-    spec.add_exclude(bodyname1="world", bodyname2="panda_link1")
+    spec.add_exclude(bodyname1="world", bodyname2=f"{prefix}panda_link1")
 
 
 def attach_human(spec: mujoco.MjSpec, worker: Worker) -> mujoco.MjModel:
@@ -172,22 +174,22 @@ def human_hand_bodies(spec: mujoco.MjSpec) -> dict[str, str]:
     return out
 
 
-def finish(spec: mujoco.MjSpec, where: str, has_robot: bool = True) -> mujoco.MjModel:
-    """Replace attached keyframes by one ``home`` (robot ready, fingers open, parts laid out; the human's
-    mocap segments keep their home posture) and compile."""
+def finish(spec: mujoco.MjSpec, where: str, robots: tuple[tuple[str, str], ...] = ()) -> mujoco.MjModel:
+    """Replace attached keyframes by one ``home`` (every robot of ``robots``, (name, prefix) pairs, ready with
+    its fingers open; parts laid out; the human's mocap segments keep their home posture) and compile."""
     for key in list(spec.keys):
         spec.delete(key)
     with _quiet_attach():
         model = compile_spec(spec, where=where)
     qpos = model.qpos0.copy()
     ctrl = np.zeros(model.nu)
-    if has_robot:
-        arm = [model.joint(f"panda_joint{i}").qposadr[0] for i in range(1, 8)]
-        qpos[arm] = HOME_QPOS
-        for j in ("panda_finger_joint1", "panda_finger_joint2"):
-            qpos[model.joint(j).qposadr[0]] = model.jnt_range[model.joint(j).id][1]
-        ctrl[:7] = HOME_QPOS
-        ctrl[7] = model.actuator_ctrlrange[7, 1]
+    for name, prefix in robots:
+        robot = PandaHandle.find(model, name, prefix)
+        qpos[robot.arm_qpos] = HOME_QPOS
+        for adr, j in zip(robot.finger_qpos, robot.finger_joints, strict=True):
+            qpos[adr] = model.jnt_range[j][1]
+        ctrl[robot.arm_ctrl] = HOME_QPOS
+        ctrl[robot.grip_ctrl] = robot.gripper_open(model)
     spec.add_key(name="home", qpos=qpos.tolist(), ctrl=ctrl.tolist())
     with _quiet_attach():
         return compile_spec(spec, where=where)

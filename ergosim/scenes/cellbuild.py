@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import mujoco
 
+from ergosim.robot.handle import robot_prefix
 from ergosim.scenes import build
 from ergosim.scenes.action_kinds import action_kind
 from ergosim.scenes.cellspec import Box, CellSpec, Shelf, Table, quat_axis_to, rpy_quat, yaw_quat
@@ -77,10 +78,11 @@ def build_cell(spec: CellSpec) -> Workcell:
     _furniture(m, spec)
     surfaces = spec.surfaces()
     hands: dict[str, str] = {}
-    for r in spec.robots:
+    prefixes = tuple((r.name, robot_prefix(i, r.name)) for i, r in enumerate(spec.robots))
+    for r, (_, prefix) in zip(spec.robots, prefixes, strict=True):
         support = surfaces[r.support].height if r.support is not None else None
-        build.attach_panda(m, r.base, r.yaw, spec.timestep, support_height=support)
-        hands[r.name] = "panda_hand"
+        build.attach_panda(m, r.base, r.yaw, spec.timestep, support_height=support, prefix=prefix)
+        hands[r.name] = f"{prefix}panda_hand"
     human = build.attach_human(m, spec.worker)
     hands.update(build.human_hand_bodies(m))
     bodies = {}
@@ -110,7 +112,7 @@ def build_cell(spec: CellSpec) -> Workcell:
         m.add_exclude(bodyname1=host, bodyname2=part)
     received = list(dict.fromkeys(a.part for a in spec.actions if action_kind(a.kind).received))
     build.add_welds(m, hands, [p.name for p in spec.parts], seats, received)
-    model = build.finish(m, where=spec.source, has_robot=bool(spec.robots))
+    model = build.finish(m, where=spec.source, robots=prefixes)
     cell = Workcell(spec, model, action_geometry(spec), hands, human=human)
     check_clearance(spec, cell.model, cell.data)  # nothing starts inside furniture (at the home keyframe)
     return cell

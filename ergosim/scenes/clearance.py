@@ -13,6 +13,7 @@ import mujoco
 import numpy as np
 
 from ergosim.errors import ConfigError
+from ergosim.robot.handle import robot_prefix
 from ergosim.scenes.cellspec import CellSpec
 
 __all__ = ["PENETRATION", "check_clearance", "furniture_of_geoms"]
@@ -36,7 +37,7 @@ def furniture_of_geoms(spec: CellSpec, model: mujoco.MjModel) -> dict[int, str]:
         owner = next((n for n in names if name == n or name.startswith(f"{n}_")), None)
         if owner is not None:
             out[g] = owner
-        elif name == _PEDESTAL:
+        elif name.split(".")[-1] == _PEDESTAL:  # a robot's pedestal (a second robot's is prefixed)
             out[g] = _PEDESTAL
     return out
 
@@ -45,41 +46,52 @@ def _solid(model: mujoco.MjModel, g: int) -> bool:
     return bool(model.geom_contype[g] or model.geom_conaffinity[g])
 
 
+def _arm_geoms(model: mujoco.MjModel, prefix: str) -> list[int]:
+    """The collision geoms of the Panda whose names start with ``prefix`` (its ``panda_link0`` subtree)."""
+    root = model.body(f"{prefix}panda_link0").id
+    return [g for g in range(model.ngeom)
+            if model.body_rootid[model.geom_bodyid[g]] == root and _solid(model, g)]
+
+
 def check_clearance(spec: CellSpec, model: mujoco.MjModel, data: mujoco.MjData) -> None:
     """Raise ConfigError if, at the current state (the home keyframe), a robot's links or pedestal or a part
-    penetrate furniture by more than :data:`PENETRATION`. The robot's support may be touched."""
+    penetrate furniture by more than :data:`PENETRATION`, or two robots touch. A robot may touch its own
+    support."""
     furniture = furniture_of_geoms(spec, model)
-    support = {r.support for r in spec.robots}
     fromto = np.zeros(6)
 
-    def deepest(geoms, skip: set[str]) -> tuple[float, int, int]:
+    def deepest(geoms, others, skip: set[str] = frozenset()) -> tuple[float, int, int]:
         worst = (0.0, -1, -1)
         for a in geoms:
-            for b, owner in furniture.items():
-                if owner in skip:
+            for b in others:
+                if furniture.get(b) in skip:
                     continue
                 d = mujoco.mj_geomDistance(model, data, a, b, PENETRATION, fromto)
                 if d < worst[0]:
                     worst = (d, a, b)
         return worst
 
-    if spec.robots:
-        root = model.body("panda_link0").id
-        arm = [g for g in range(model.ngeom)
-               if model.body_rootid[model.geom_bodyid[g]] == root and _solid(model, g)]
-        pedestal = [g for g in range(model.ngeom) if model.geom(g).name == _PEDESTAL]
-        robot = spec.robots[0]
-        d, a, b = deepest(arm + pedestal, support | {_PEDESTAL})
+    arms = {r.name: _arm_geoms(model, robot_prefix(i, r.name)) for i, r in enumerate(spec.robots)}
+    for i, robot in enumerate(spec.robots):
+        pedestal = [g for g, owner in furniture.items() if owner == _PEDESTAL
+                    and model.geom(g).name == f"{robot_prefix(i, robot.name)}{_PEDESTAL}"]
+        d, a, b = deepest(arms[robot.name] + pedestal, furniture, {robot.support, _PEDESTAL})
         if d < -PENETRATION:
             what = "its pedestal" if a in pedestal else model.body(model.geom_bodyid[a]).name
             raise ConfigError(f"the robot stands inside furniture {furniture[b]!r}: at its ready pose {what} "
                               f"is {-d * 1000:.0f} mm inside {model.geom(b).name}; move "
                               f"robots.{robot.name}.base or the furniture",
                               where=f"{spec.source}: robots.{robot.name}.base")
+        for other in spec.robots[:i]:
+            d, _, _ = deepest(arms[robot.name], arms[other.name])
+            if d < -PENETRATION:
+                raise ConfigError(f"robots {other.name!r} and {robot.name!r} intersect at their ready poses "
+                                  f"({-d * 1000:.0f} mm); move one of them",
+                                  where=f"{spec.source}: robots.{robot.name}.base")
     for part in spec.parts:
         body = model.body(part.name).id
         geoms = [g for g in range(model.ngeom) if model.geom_bodyid[g] == body and model.geom_contype[g]]
-        d, _, b = deepest(geoms, set())
+        d, _, b = deepest(geoms, furniture)
         if d < -PENETRATION:
             raise ConfigError(f"the part intersects furniture {furniture[b]!r}: it starts {-d * 1000:.0f} mm "
                               f"inside {model.geom(b).name}; move it (xy, on or pos)",

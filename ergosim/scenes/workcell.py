@@ -15,6 +15,7 @@ import numpy as np
 
 from ergosim.errors import ConfigError
 from ergosim.human.mocap import MocapHuman
+from ergosim.robot.handle import PandaHandle, robot_prefix
 from ergosim.scenes.action_kinds import ActionKind, action_kind
 from ergosim.scenes.build import receive_name, seat_name, weld_name
 from ergosim.scenes.cellspec import CellSpec
@@ -102,6 +103,8 @@ class Workcell:
         self.home_key = model.keyframe("home").id
         self.parts = tuple(p.name for p in spec.parts)
         self.robots = tuple(r.name for r in spec.robots)
+        self.robot_handles = {r.name: PandaHandle.find(model, r.name, robot_prefix(i, r.name))
+                              for i, r in enumerate(spec.robots)}
         self._grip = {p.name: p.grip_width for p in spec.parts}
         self._body = {p: model.body(p).id for p in self.parts}
         self._hand = {h: model.body(b).id for h, b in hand_bodies.items()}
@@ -130,8 +133,21 @@ class Workcell:
         i = self.model.body(name).id
         return self.data.xpos[i].copy(), self.data.xquat[i].copy()
 
-    def robot_base_pose(self) -> tuple[np.ndarray, np.ndarray]:
-        return self.body_pose("panda_link0")
+    def robot_base_pose(self, robot: str | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Pose of ``panda_link0`` of ``robot`` (default: the cell's first robot)."""
+        return self.body_pose(self.robot(robot).base)
+
+    def robot(self, name: str | None = None) -> PandaHandle:
+        """The :class:`~ergosim.robot.handle.PandaHandle` of robot ``name`` (default: the first)."""
+        if not self.robot_handles:
+            raise ConfigError("the workcell has no robot", where=self.name)
+        if name is None:
+            return next(iter(self.robot_handles.values()))
+        try:
+            return self.robot_handles[name]
+        except KeyError:
+            raise ConfigError(f"unknown robot {name!r}; robots: {', '.join(self.robots)}",
+                              where=self.name) from None
 
     # -- reset ----------------------------------------------------------------------------------------------
     def reset(self) -> None:

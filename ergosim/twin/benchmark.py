@@ -37,7 +37,7 @@ def bench_repetition(scenario: str, mode: str = "hrc", seed: int = 0,
     rng = np.random.default_rng([seed, 2])
     rig = build_rig(sc, subject, rng, record_bodies=record, alphas=calibration.alphas)
     session = Session(cfg=cfg, mode=mode, subject_index=0, worker=rig.worker, plant=rig.plant,
-                      robot=rig.robot, allocator=make_allocator(sc, mode, rig, calibration), rng=rng)
+                      robot=rig.robots, allocator=make_allocator(sc, mode, rig, calibration), rng=rng)
     t0 = time.perf_counter()
     run = session.run(repetitions)
     if record:

@@ -21,10 +21,12 @@ __all__ = ["RobotTrack"]
 
 
 class RobotTrack:
-    """One Panda in one workcell. ``ee_speed`` [m/s]: end-effector speed (the paper's conservative 0.05)."""
+    """One Panda in one workcell: ``robot`` its name (the task agent; default the cell's first robot).
+    ``ee_speed`` [m/s]: end-effector speed (the paper's conservative 0.05)."""
 
-    def __init__(self, cell, ee_speed: float = 0.05) -> None:
+    def __init__(self, cell, ee_speed: float = 0.05, robot: str | None = None) -> None:
         self.cell = cell
+        self.name = cell.robot(robot).name
         self.kin = PandaKinematics()
         self.params = SkillParams(limits=MotionLimits(speed=ee_speed))
         self.skill = None
@@ -58,7 +60,7 @@ class RobotTrack:
         if geom.handover is not None:
             pos, quat = cell.site_pose(geom.handover)
             self.skill = Handover(cell, geom.part, pos, quat, taken=self._taken(geom.part), kin=self.kin,
-                                  params=self.params)
+                                  params=self.params, robot=self.name)
             return
         pos, quat = cell.site_pose(geom.target)
         approach = None
@@ -69,7 +71,8 @@ class RobotTrack:
             axis = "xyz".index(cell.config.part(geom.part).insert_axis)
             approach = rot.reshape(3, 3)[:, axis]
         self.skill = PickPlace(cell, geom.part, pos, quat, approach=approach, seat=geom.seats,
-                               hold=geom.turn_time, receive=geom.received, kin=self.kin, params=self.params)
+                               hold=geom.turn_time, receive=geom.received, kin=self.kin, params=self.params,
+                               robot=self.name)
 
     def _taken(self, part: str):
         def taken(wc) -> bool:

@@ -48,13 +48,19 @@ class SubjectResult:
 
 @dataclasses.dataclass
 class Rig:
-    """Everything physical for one subject: workcell, plant, worker, robot (None in a cell without one)."""
+    """Everything physical for one subject: workcell, plant, worker, the robots by name (none in a cell
+    without one) and the task graph."""
 
     cell: Workcell
     plant: Plant
     worker: Worker
-    robot: RobotTrack | None
+    robots: dict[str, RobotTrack]
     graph: object
+
+    @property
+    def robot(self) -> RobotTrack | None:
+        """The cell's first robot, or None."""
+        return next(iter(self.robots.values()), None)
 
 
 def subject_cell(scenario: Scenario, subject: Subject) -> Workcell:
@@ -78,9 +84,9 @@ def build_rig(scenario: Scenario, subject: Subject, rng: np.random.Generator, re
     kwear = KWearIndex(subject.kwear_params(), alphas or {}, online_weight=cfg.online_alpha_weight)
     plant = Plant(cell, track, kwear, mocap_rate=cfg.mocap_rate,
                   ergonomics_rate=cfg.ergonomics_rate, physics_dt=cfg.physics_dt, record_bodies=record_bodies)
-    robot = RobotTrack(cell, ee_speed=cfg.ee_speed) if cell.robots else None
-    plant.robot = robot
-    return Rig(cell, plant, track.worker, robot, scenario.task())
+    robots = {r: RobotTrack(cell, ee_speed=cfg.ee_speed, robot=r) for r in cell.robots}
+    plant.robot = next(iter(robots.values()), None)
+    return Rig(cell, plant, track.worker, robots, scenario.task())
 
 
 def _calibrate(scenario: Scenario, subject: Subject, rng: np.random.Generator):
@@ -116,7 +122,7 @@ def _session(scenario: Scenario, index: int, subject: Subject, mode: str, rng: n
                     alphas=calibration.alphas if calibration is not None else None)
     allocator = make_allocator(scenario, mode, rig, calibration)
     return Session(cfg=scenario.protocol, mode=mode, subject_index=index, worker=rig.worker, plant=rig.plant,
-                   robot=rig.robot, allocator=allocator, rng=rng)
+                   robot=rig.robots, allocator=allocator, rng=rng)
 
 
 def subject_session(scenario: Scenario, index: int, seed: int, mode: str, *, calibrate: bool = True,

@@ -126,7 +126,7 @@ def check_reachability(scenario, task: AndOrGraph, cell) -> None:
                     able.append(agent)
             elif agent in robots:
                 tried[agent] += 1
-                if all(_robot_reaches(cell, kin, solve_ik, p) for p in points):
+                if all(_robot_reaches(cell, agent, kin, solve_ik, p) for p in points):
                     able.append(agent)
                     reached[agent] += 1
         if not able:
@@ -137,15 +137,15 @@ def check_reachability(scenario, task: AndOrGraph, cell) -> None:
                               where=f"{src}: actions.{action}")
     for robot in robots:
         if tried[robot] and not reached[robot]:
-            base = cell.robot_base_pose()[0]
+            base = cell.robot_base_pose(robot)[0]
             raise ConfigError(f"robot {robot!r} at {np.round(base, 2).tolist()} reaches none of the "
                               f"{tried[robot]} actions it may do; move its base or take it out of the task",
                               where=f"{src}: robots.{robot}.base")
 
 
-def _robot_reaches(cell, kin, solve_ik, point: np.ndarray) -> bool:
-    """A top-down TCP pose 5 cm above ``point`` (world) within 1 cm of a solution."""
-    base_p, base_q = cell.robot_base_pose()
+def _robot_reaches(cell, robot: str, kin, solve_ik, point: np.ndarray) -> bool:
+    """A top-down TCP pose of ``robot`` 5 cm above ``point`` (world) within 1 cm of a solution."""
+    base_p, base_q = cell.robot_base_pose(robot)
     import mujoco  # noqa: PLC0415
 
     r = np.empty(9)

@@ -54,7 +54,9 @@ class Session:
         self.worker = worker
         self.plant = plant
         self.cell = plant.cell
-        self.robot = robot
+        # the robots by name (the task's robot agents); one RobotTrack is the cell's only robot
+        self.robots = dict(robot) if isinstance(robot, dict) else ({robot.name: robot} if robot else {})
+        self.robot = next(iter(self.robots.values()), None)  # the one acting now
         self.allocator = allocator
         self.rng = rng
         self.hand = f"human_{worker.side}"
@@ -168,6 +170,7 @@ class Session:
         kind. Nothing is decided or recorded; :meth:`run` calls this for every decision."""
         geom = self.cell.actions[action]
         if agent != self.allocator.human:
+            self.robot = self.plant.robot = self.robots[agent]  # the plant steps the acting robot's skill
             return self._robot_action(geom)
         self.plant.kwear.start_action(action)
         try:
