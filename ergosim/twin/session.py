@@ -214,7 +214,7 @@ class Session:
             self.allocations.append(Allocation(
                 subject=self.subject_index, mode=self.mode, repetition=rep, order=order,
                 action=decision.action, agent=decision.agent,
-                human_cost=decision.cost_of(alloc.human), robot_cost=decision.cost_of(alloc.robot),
+                human_cost=decision.cost_of(alloc.human), robot_cost=self._robot_cost(decision),
                 t_start=out.t_start, t_end=out.t_end, had_choice=decision.had_choice,
                 status="done" if out.ok else f"failed:{_reason(out.status)}", attempt=attempt,
                 forced=self._forced(decision), allocatable=len(alloc.allowed[decision.action]) > 1,
@@ -262,6 +262,14 @@ class Session:
         )
 
     # -- what the outputs say about an attempt -------------------------------------------------------------
+    def _robot_cost(self, decision: Decision) -> float:
+        """The cost of the robot that got the action, else of the cheapest robot (NaN without costs)."""
+        alloc = self.allocator
+        if decision.agent in alloc.robots:
+            return decision.cost_of(decision.agent)
+        costs = [decision.cost_of(r) for r in alloc.robots]
+        return min(costs, key=lambda c: (np.isnan(c), c)) if costs else float("nan")
+
     def _forced(self, decision: Decision) -> str:
         """The agent, if the task and mode allow more than one agent for the action but failures in this
         repetition pruned every other one; else ""."""
