@@ -179,3 +179,20 @@ def two_robots(task: str = TASK, cell: str = CELL) -> tuple[str, str]:
     cell = cell.replace("[furniture.bench]", '[robots.robot2]\nbase = [0.90, -0.35, 0.9]\nyaw = 180.0\n'
                         'support = "bench"\n\n[furniture.bench]')
     return task, cell
+
+
+def write_block_stl(path: Path, half=(0.02, 0.02, 0.015)) -> None:
+    """A binary STL of a box of half sizes ``half`` [m] centred on its origin (12 triangles)."""
+    import numpy as np  # noqa: PLC0415
+
+    h = np.asarray(half, dtype=float)
+    v = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]) * h
+    faces = [(0, 1, 3), (0, 3, 2), (4, 6, 7), (4, 7, 5), (0, 4, 5), (0, 5, 1), (2, 3, 7), (2, 7, 6),
+             (0, 2, 6), (0, 6, 4), (1, 5, 7), (1, 7, 3)]
+    rec = np.zeros(len(faces), dtype=[("n", "<f4", 3), ("v", "<f4", (3, 3)), ("attr", "<u2")])
+    for i, f in enumerate(faces):
+        a, b, c = v[list(f)]
+        n = np.cross(b - a, c - a)
+        rec[i]["n"], rec[i]["v"] = n / np.linalg.norm(n), (a, b, c)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_bytes(b"\0" * 80 + np.uint32(len(faces)).tobytes() + rec.tobytes())

@@ -7,9 +7,13 @@ from __future__ import annotations
 import csv
 import json
 
-from own_product import CELL, TASK, write_product
+import mujoco
+import pytest
+from own_product import CELL, TASK, write_block_stl, write_product
 
+from ergosim import api
 from ergosim.cli import main
+from ergosim.errors import ConfigError
 from ergosim.twin.scenariofile import load_scenario
 
 
@@ -63,3 +67,26 @@ def _nest(text: str, table: str) -> str:
         else:
             top.append(line)
     return "\n".join(top + out)
+
+
+def test_a_part_from_an_stl_mesh(tmp_path, monkeypatch):
+    """The base as an STL mesh, named relative to the workcell file; built and handled from elsewhere."""
+    write_block_stl(tmp_path / "mine" / "meshes" / "block.stl")
+    cell = CELL.replace('shape = "box"\nsize = [0.06, 0.06, 0.04]',
+                        'shape = "mesh"\nfile = "meshes/block.stl"\nsize = [0.04, 0.04, 0.03]')
+    scenario = write_product(tmp_path / "mine", cell=cell)
+    monkeypatch.chdir(tmp_path)
+    session = api.session(scenario, "h-only", calibrate=False)
+    wc = session.cell
+    assert wc.model.geom("base_geom").type == mujoco.mjtGeom.mjGEOM_MESH
+    assert abs(wc.body_pose("base")[0][2] - (0.9 + 0.015)) < 1e-9  # resting on the bench by its size
+    for action, agent in (("b1", "robot"), ("b2", "human")):
+        assert session.perform(action, agent).ok, action
+    with pytest.raises(ConfigError, match="no such mesh file"):
+        api.workcell(_with(tmp_path / "other", cell.replace("meshes/block.stl", "meshes/none.stl")))
+
+
+def _with(folder, cell: str):
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / "cell.toml").write_text(cell)
+    return folder / "cell.toml"
