@@ -8,6 +8,7 @@ import csv
 import json
 
 import mujoco
+import numpy as np
 import pytest
 from own_product import CELL, TASK, write_block_stl, write_product
 
@@ -90,3 +91,18 @@ def _with(folder, cell: str):
     folder.mkdir(parents=True, exist_ok=True)
     (folder / "cell.toml").write_text(cell)
     return folder / "cell.toml"
+
+
+def test_the_workers_position_facing_and_hand_come_from_the_cell(tmp_path):
+    scenario = write_product(tmp_path)
+    sc = load_scenario(scenario, {"scene.worker.hand": "left", "scene.worker.yaw": "20",
+                                  "scene.worker.xy": "0.05,0.10"})
+    session = api.session(sc, "h-only", calibrate=False)
+    wc = session.cell
+    pos, quat = wc.body_pose("human_pelvis")
+    assert abs(pos[0] - 0.05) < 1e-9 and abs(pos[1] - 0.10) < 1e-9
+    assert abs(2 * np.degrees(np.arctan2(quat[3], quat[0])) - 20.0) < 1e-6
+    assert session.worker.side == "left" and session.hand == "human_left"
+    motion = session.worker.plan(wc, wc.actions["b1"], np.random.default_rng(0), action="b1")
+    assert motion.side == "left"
+    assert session.perform("b1", "human").ok
