@@ -342,8 +342,8 @@ class _Carry(Skill):
 class PickPlace(_Carry):
     """Pick ``part`` and put its origin at the world pose ``target_pos`` (3,) [m], ``target_quat`` wxyz.
 
-    ``approach``: world direction the part arrives from (default +z, from above; for a profile going into a
-    side hollow, the hollow's axis). ``seat``: weld an inserted part into its slot when it is within
+    ``approach``: world direction the part arrives from (default +z, from above; for a part going into a
+    slot, the slot's axis). ``seat``: weld an inserted part into its slot when it is within
     tolerance. ``hold`` [s]: keep holding the part at the target before letting go (fastening: the turn).
     ``receive``: the target is a pose in the air where a receiver outside the cell takes the part
     (``Workcell.receive``, the handover kind) before the fingers open; ``not_seated`` if it is out of the

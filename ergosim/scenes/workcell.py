@@ -113,7 +113,7 @@ class Workcell:
         self._host = {p: slot.host for slot, p in seated}
         self._upright = {p: tuple(slot.axis) == (0.0, 0.0, 1.0) for slot, p in seated}
         self._seat = {p: model.equality(seat_name(p)).id for _, p in seated}
-        self._hollow = {p: model.site(g.target).id for g in self.actions.values() if g.seats
+        self._seat_site = {p: model.site(g.target).id for g in self.actions.values() if g.seats
                         for p in (g.part,)}
         self._receive = {g.part: model.equality(receive_name(g.part)).id for g in self.actions.values()
                          if g.received}
@@ -276,7 +276,7 @@ class Workcell:
     def seat_error(self, part: str) -> tuple[float, float]:
         """Distance [m] and angle [deg] between ``part`` and its seated pose in its slot."""
         pos, quat = self.body_pose(part)
-        i = self._hollow[part]
+        i = self._seat_site[part]
         spos = self.data.site_xpos[i].copy()
         squat = np.empty(4)
         mujoco.mju_mat2Quat(squat, self.data.site_xmat[i])
@@ -284,29 +284,29 @@ class Workcell:
         mujoco.mju_mulQuat(dq, _quat_conj(squat), quat)
         return float(np.linalg.norm(pos - spos)), _quat_angle_deg(dq)
 
-    def seat(self, profile: str) -> SeatResult:
-        """Weld ``profile`` to its slot's host at its exact seated pose if within the seat tolerances."""
-        if profile not in self._seat:
-            raise ConfigError(f"only parts with a slot are seated, got {profile!r}; they are: "
+    def seat(self, part: str) -> SeatResult:
+        """Weld ``part`` to its slot's host at its exact seated pose if within the seat tolerances."""
+        if part not in self._seat:
+            raise ConfigError(f"only parts with a slot are seated, got {part!r}; they are: "
                               f"{', '.join(self._seat)}", where=self.name)
-        dist, angle = self.seat_error(profile)
+        dist, angle = self.seat_error(part)
         ok = dist <= self.config.seat_tolerance and angle <= self.config.seat_tolerance_deg
         if ok:
-            eq = self._seat[profile]
-            hollow = self._hollow[profile]
+            eq = self._seat[part]
+            site = self._seat_site[part]
             self.model.eq_data[eq, 0:3] = 0.0
-            self.model.eq_data[eq, 3:6] = self.model.site_pos[hollow]
-            self.model.eq_data[eq, 6:10] = self.model.site_quat[hollow]
+            self.model.eq_data[eq, 3:6] = self.model.site_pos[site]
+            self.model.eq_data[eq, 6:10] = self.model.site_quat[site]
             self.data.eq_active[eq] = 1
-            self._wake(self._body[self._host[profile]], self._body[profile])
+            self._wake(self._body[self._host[part]], self._body[part])
         return SeatResult(ok, dist, angle)
 
-    def is_seated(self, profile: str) -> bool:
-        return bool(self.data.eq_active[self._seat[profile]])
+    def is_seated(self, part: str) -> bool:
+        return bool(self.data.eq_active[self._seat[part]])
 
-    def unseat(self, profile: str) -> None:
-        self.data.eq_active[self._seat[profile]] = 0
-        self._wake(self._body[self._host[profile]], self._body[profile])
+    def unseat(self, part: str) -> None:
+        self.data.eq_active[self._seat[part]] = 0
+        self._wake(self._body[self._host[part]], self._body[part])
 
     # -- receivers and completion ---------------------------------------------------------------------------
     def receive(self, part: str, pos) -> SeatResult:
