@@ -52,10 +52,10 @@ def _hands(reach=0.5, move=0.4, back=0.45) -> np.ndarray:
 
 
 def test_action_timing_follows_the_elements():
-    place = action_timing(_hands(), "place")
-    insert = action_timing(_hands(), "insert")
-    fasten = action_timing(_hands(), "fasten", turn_time=2.0)
-    taken = action_timing(_hands(), "insert", handover=True)
+    place = action_timing(_hands(), seats=False)
+    insert = action_timing(_hands(), seats=True)
+    fasten = action_timing(_hands(), seats=True, turn_time=2.0)
+    taken = action_timing(_hands(), seats=True, handover=True)
     assert place.durations.shape == (N_SEGMENTS,)
     # P2SS + AP2 against P1SS; the move is case C (exact location) instead of B
     assert insert.durations[6] - place.durations[6] == pytest.approx(tmu_to_s(19.7 + 10.6 - 9.1))
@@ -73,7 +73,7 @@ def test_action_timing_follows_the_elements():
 
 def test_action_timing_checks_its_input():
     with pytest.raises(ValueError, match="11, 3"):
-        action_timing(np.zeros((5, 3)), "place")
+        action_timing(np.zeros((5, 3)), seats=False)
 
 
 def test_worker_actions_take_mtm_time_at_the_subjects_pace():

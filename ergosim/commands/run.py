@@ -46,8 +46,10 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument("--connect", nargs="?", const="default", metavar="URL",
                    help="stream to a running rerun viewer (default URL if none given)")
     p.add_argument("--set", dest="assign", action="append", default=[], metavar="KEY=VALUE",
-                   help="override a protocol field (e.g. takt=40) or a workcell field by its dotted path "
-                        "or alias (e.g. scene.shelf_height=1.6, scene.parts.L.xy=0.2,0.8)")
+                   help="override any field by its dotted path: the protocol (takt=40), the workcell "
+                        "(scene.shelf_height=1.6, scene.parts.L.xy=0.2,0.8), the task "
+                        "(task.agents.robot.cost=3), or the task or workcell itself (workcell=FILE); "
+                        "docs/workcell_format.md")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     return p
 
@@ -88,10 +90,9 @@ def _scenario(args):
 
 def _precheck(scenario) -> None:
     """Refuse a run certain to fail before any subject starts (reachability of every action)."""
-    from ergosim.scenes import build_cell  # noqa: PLC0415
-    from ergosim.twin.scenario_check import check_reachability  # noqa: PLC0415
+    from ergosim.twin.scenario_check import precheck  # noqa: PLC0415
 
-    check_reachability(scenario, scenario.task(), build_cell(scenario.cell()))
+    precheck(scenario)
 
 
 def run(args) -> int:

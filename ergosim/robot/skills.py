@@ -28,7 +28,6 @@ import numpy as np
 
 from ergosim.robot.ik import solve_ik
 from ergosim.robot.kinematics import PandaKinematics
-from ergosim.robot.mjcf import ARM_JOINTS
 from ergosim.robot.status import SKILL_PHASES, SkillResult, SkillStatus
 from ergosim.robot.trajectory import (
     BaseFrame,
@@ -119,26 +118,29 @@ def _flip_z(rot: np.ndarray) -> np.ndarray:
 
 class Skill(ABC):
     """A robot skill bound to a workcell (the extension point for new skills): subclasses write
-    :meth:`_program`, a generator yielding once per physics step and returning a SkillResult."""
+    :meth:`_program`, a generator yielding once per physics step and returning a SkillResult. ``robot``:
+    which of the cell's robots (its task agent's name; default the first)."""
 
     name = "skill"
 
     def __init__(self, workcell, part: str, kin: PandaKinematics | None = None,
-                 params: SkillParams = SkillParams()) -> None:
+                 params: SkillParams = SkillParams(), robot: str | None = None) -> None:
         self.wc = workcell
-        self.holder = workcell.robots[0]  # the holder name of the cell's robot (its task agent)
+        handle = workcell.robot(robot)
+        self.holder = handle.name  # the holder name of the robot (its task agent)
         self.part = part
         self.kin = kin or PandaKinematics()
         self.params = params
         m = workcell.model
         self.dt = float(m.opt.timestep)
-        self._arm_q = np.array([m.joint(j).qposadr[0] for j in ARM_JOINTS])
-        self._finger_q = np.array([m.joint(f"panda_finger_joint{i}").qposadr[0] for i in (1, 2)])
-        self._tcp = m.site("panda_tcp").id
-        self._pads = {f: {g for g in range(m.ngeom) if m.geom_bodyid[g] == m.body(f).id and m.geom_contype[g]}
-                      for f in ("panda_leftfinger", "panda_rightfinger")}
-        self._gripper_open = float(m.actuator_ctrlrange[7, 1])
-        pos, quat = workcell.robot_base_pose()
+        self._arm_q = handle.arm_qpos
+        self._finger_q = handle.finger_qpos
+        self._tcp = handle.tcp
+        self._arm_ctrl, self._grip = handle.arm_ctrl, handle.grip_ctrl
+        self._pads = [{g for g in range(m.ngeom) if m.geom_bodyid[g] == m.body(f).id and m.geom_contype[g]}
+                      for f in handle.fingers]
+        self._gripper_open = handle.gripper_open(m)
+        pos, quat = workcell.robot_base_pose(handle.name)
         self.base = BaseFrame(pos, _quat_to_mat(quat))
         self._steps = 0
         self._arrival = float("nan")
@@ -258,12 +260,13 @@ class Skill(ABC):
     def _follow(self, motion: _Motion, grip: float | None = None) -> Iterator[None]:
         ctrl = self.wc.data.ctrl
         if grip is not None:
-            ctrl[7] = grip
+            ctrl[self._grip] = grip
+        arm = self._arm_ctrl
         i = 0
         for phase, n in motion.spans:
             self._phase = phase
             for row in motion.q[i:i + n]:
-                ctrl[:7] = row
+                ctrl[arm] = row
                 yield
             i += n
 
@@ -275,7 +278,7 @@ class Skill(ABC):
     def _touching(self, body: int) -> tuple[bool, bool]:
         d, m = self.wc.data, self.wc.model
         left = right = False
-        lp, rp = self._pads["panda_leftfinger"], self._pads["panda_rightfinger"]
+        lp, rp = self._pads
         for i in range(d.ncon):
             c = d.contact[i]
             g1, g2 = c.geom1, c.geom2
@@ -294,15 +297,16 @@ class Skill(ABC):
         rate = self.params.finger_speed * self.dt
         stalled = 0
         self._phase = "gripper"
+        g = self._grip
         while True:
-            d.ctrl[7] = max(0.0, d.ctrl[7] - rate)
+            d.ctrl[g] = max(0.0, d.ctrl[g] - rate)
             yield
             left, right = self._touching(body)
             if left and right:
                 self.wc.grasp(self.holder, body_name)
-                d.ctrl[7] = d.qpos[self._finger_q].mean()  # hold the fingers where they touch the part
+                d.ctrl[g] = d.qpos[self._finger_q].mean()  # hold the fingers where they touch the part
                 return True
-            stalled = stalled + 1 if d.ctrl[7] == 0.0 else 0
+            stalled = stalled + 1 if d.ctrl[g] == 0.0 else 0
             if d.qpos[self._finger_q].mean() < width / 2 - 0.004 or stalled * self.dt > 0.3:
                 return False
 
@@ -310,8 +314,9 @@ class Skill(ABC):
         d = self.wc.data
         rate = self.params.finger_speed * self.dt
         self._phase = "gripper"
-        while d.ctrl[7] < self._gripper_open:
-            d.ctrl[7] = min(self._gripper_open, d.ctrl[7] + rate)
+        g = self._grip
+        while d.ctrl[g] < self._gripper_open:
+            d.ctrl[g] = min(self._gripper_open, d.ctrl[g] + rate)
             yield
 
     def _home(self, q_from: np.ndarray, tcp_from: Pose, slow_first: float = 0.0) -> _Motion:
@@ -349,8 +354,8 @@ class _Carry(Skill):
     """Shared program: reach, grasp, carry to a TCP pose; subclasses decide what happens there."""
 
     def __init__(self, workcell, part: str, kin: PandaKinematics | None = None,
-                 params: SkillParams = SkillParams()) -> None:
-        super().__init__(workcell, part, kin, params)
+                 params: SkillParams = SkillParams(), robot: str | None = None) -> None:
+        super().__init__(workcell, part, kin, params, robot)
         self.grasp_site = workcell.grasp_site(part)
         self.grasp_body = workcell.grasp_body(part)
         self.width = workcell.grip_width(self.grasp_body)
@@ -364,7 +369,7 @@ class _Carry(Skill):
         m, d = self.wc.model, self.wc.data
         rot_tcp = d.site_xmat[self._tcp].reshape(3, 3)
         tip = 0.0  # how far the finger pads reach beyond the TCP along its approach axis (z)
-        for g in set().union(*self._pads.values()):
+        for g in set().union(*self._pads):
             rel = rot_tcp.T @ d.geom_xmat[g].reshape(3, 3)
             centre = rot_tcp.T @ (d.geom_xpos[g] - d.site_xpos[self._tcp]) + rel @ m.geom_aabb[g, :3]
             tip = max(tip, centre[2] + np.abs(rel[2]) @ m.geom_aabb[g, 3:])
@@ -473,9 +478,10 @@ class _Carry(Skill):
         tol = self.wc.config.grasp_tolerance
         tcp = self._tcp_world()
         grip = tcp.rot.T @ (d.site_xpos[site] - tcp.pos)  # where the part sits in the hand
+        arm = self._arm_ctrl
         for i, (row, phase) in enumerate(zip(carry.q, carry.phases(), strict=True)):
             self._phase = phase
-            d.ctrl[:7] = row
+            d.ctrl[arm] = row
             yield
             if i % every == 0 and np.linalg.norm(d.site_xmat[self._tcp].reshape(3, 3).T
                                                  @ (d.site_xpos[site] - d.site_xpos[self._tcp]) - grip) > tol:
@@ -491,22 +497,26 @@ class _Carry(Skill):
 class PickPlace(_Carry):
     """Pick ``part`` and put its origin at the world pose ``target_pos`` (3,) [m], ``target_quat`` wxyz.
 
-    ``approach``: world direction the part arrives from (default +z, from above; for a profile going into a
-    side hollow, the hollow's axis). ``seat``: weld an inserted part into its slot when it is within
+    ``approach``: world direction the part arrives from (default +z, from above; for a part going into a
+    slot, the slot's axis). ``seat``: weld an inserted part into its slot when it is within
     tolerance. ``hold`` [s]: keep holding the part at the target before letting go (fastening: the turn).
+    ``receive``: the target is a pose in the air where a receiver outside the cell takes the part
+    (``Workcell.receive``, the handover kind) before the fingers open; ``not_seated`` if it is out of the
+    receiver's tolerance there.
     """
 
     name = "pick_place"
 
     def __init__(self, workcell, part: str, target_pos, target_quat, *, approach=None, seat: bool = False,
-                 hold: float = 0.0, kin: PandaKinematics | None = None,
-                 params: SkillParams = SkillParams()) -> None:
-        super().__init__(workcell, part, kin, params)
+                 hold: float = 0.0, receive: bool = False, kin: PandaKinematics | None = None,
+                 params: SkillParams = SkillParams(), robot: str | None = None) -> None:
+        super().__init__(workcell, part, kin, params, robot)
         self.target = Pose(np.asarray(target_pos, dtype=float), _quat_to_mat(target_quat))
         a = np.array([0.0, 0.0, 1.0]) if approach is None else np.asarray(approach, dtype=float)
         self.approach_dir = a / np.linalg.norm(a)
         self.seat = seat
         self.hold = float(hold)
+        self.receive = receive
 
     def _program(self) -> Program:
         p = self.params
@@ -532,8 +542,9 @@ class PickPlace(_Carry):
             leave = self._replan_leave(leave, carry.end, self.approach_dir, contact)
             if self.hold > 0:
                 yield from self._hold(self.hold, phase="contact")
+            received = self.wc.receive(self.part, self.target.pos) if self.receive else None
             self.wc.release(self.holder, self.grasp_body)
-            seated = self.wc.seat(self.part) if self.seat else None
+            seated = self.wc.seat(self.part) if self.seat else received
             yield from self._open()
             yield from self._hold(p.settle)
         finally:
@@ -543,6 +554,10 @@ class PickPlace(_Carry):
         yield from self._hold(p.settle)
         error = float(np.linalg.norm(self.wc.body_pose(self.part)[0] - self.target.pos))
         if seated is not None and not seated.seated:
+            if self.receive:
+                return self._finish(SkillStatus.NOT_SEATED, f"{self.part} arrived "
+                                    f"{seated.pos_error * 1000:.1f} mm from the handover pose, outside the "
+                                    "receiver's tolerance", error)
             return self._finish(SkillStatus.NOT_SEATED, f"{self.part} ended {seated.pos_error * 1000:.1f} mm "
                                 f"and {seated.rot_error_deg:.1f} deg from its seat", error)
         return self._finish(SkillStatus.OK, f"{self.part} placed {error * 1000:.1f} mm from its target",
@@ -562,8 +577,9 @@ class Handover(_Carry):
     name = "handover"
 
     def __init__(self, workcell, part: str, pos, quat, taken: Callable[[object], bool] | None = None, *,
-                 kin: PandaKinematics | None = None, params: SkillParams = SkillParams()) -> None:
-        super().__init__(workcell, part, kin, params)
+                 kin: PandaKinematics | None = None, params: SkillParams = SkillParams(),
+                 robot: str | None = None) -> None:
+        super().__init__(workcell, part, kin, params, robot)
         self.target = Pose(np.asarray(pos, dtype=float), _quat_to_mat(quat))
         self.taken = taken or _worker_holds(part)
         self.hand_error = float("nan")

@@ -23,7 +23,8 @@ class SkillStatus(Enum):
     DROPPED = "dropped"
     """The part left the gripper while carried."""
     NOT_SEATED = "not_seated"
-    """An inserted profile ended outside the seat tolerance of its hollow."""
+    """An inserted part ended outside the seat tolerance of its slot, or a part handed over outside the
+    receiver's tolerance of the handover pose."""
     TIMEOUT = "timeout"
     """A handover nobody took within the allowed time."""
 

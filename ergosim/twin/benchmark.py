@@ -24,7 +24,7 @@ from ergosim.viz import open_recording
 __all__ = ["bench_repetition", "bench_sim", "bench_full"]
 
 
-def bench_repetition(scenario: str = "multi-subject", mode: str = "hrc", seed: int = 0,
+def bench_repetition(scenario: str, mode: str = "hrc", seed: int = 0,
                      record: bool = False, scene_overrides: dict | None = None, repetitions: int = 1) -> dict:
     """Time ``repetitions`` repetitions of one subject (after calibration, which is not timed). Returns wall
     [s], simulated time [s], and the raw mj_step wall for the same simulated time."""
@@ -36,7 +36,7 @@ def bench_repetition(scenario: str = "multi-subject", mode: str = "hrc", seed: i
     rng = np.random.default_rng([seed, 2])
     rig = build_rig(sc, subject, rng, record_bodies=record, alphas=calibration.alphas)
     session = Session(cfg=cfg, mode=mode, subject_index=0, worker=rig.worker, plant=rig.plant,
-                      robot=rig.robot, allocator=make_allocator(sc, mode, rig, calibration), rng=rng)
+                      robot=rig.robots, allocator=make_allocator(sc, mode, rig, calibration), rng=rng)
     t0 = time.perf_counter()
     run = session.run(repetitions)
     if record:
@@ -54,10 +54,10 @@ def bench_repetition(scenario: str = "multi-subject", mode: str = "hrc", seed: i
     mujoco.mj_step(model, data, nstep=n)
     raw = time.perf_counter() - t1
     return {"wall": wall, "sim_time": sim, "raw_wall": raw, "failures": len(run.failures),
-            "robot_actions": sum(a.agent != "human" for a in run.allocations)}
+            "robot_actions": sum(run.by_robot(a.agent) for a in run.allocations)}
 
 
-def bench_sim(scenario: str = "multi-subject", mode: str = "hrc", repeats: int = 3, seed: int = 0,
+def bench_sim(scenario: str, mode: str = "hrc", repeats: int = 3, seed: int = 0,
               repetitions: int = 1) -> dict:
     """Medians over ``repeats`` (subjects of seeds ``seed``, ``seed`` + 1, ...) of: real-time factor and
     overhead ratio of ``repetitions`` repetitions, logging off and on."""
@@ -86,7 +86,7 @@ def bench_sim(scenario: str = "multi-subject", mode: str = "hrc", repeats: int =
     }
 
 
-def bench_full(scenario: str = "multi-subject", jobs: int = 2, seed: int = 0) -> dict:
+def bench_full(scenario: str, jobs: int = 2, seed: int = 0) -> dict:
     """Wall time of the whole scenario (e.g. 12 subjects x 10 repetitions x 2 modes), ``jobs`` processes."""
     from ergosim.twin.scenario_run import run_scenario  # noqa: PLC0415
 

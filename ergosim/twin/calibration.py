@@ -4,7 +4,7 @@ A calibration pass is the worker doing the whole task alone, in the task's fixed
 workcell. Each action's motion is planned from the scene's current geometry and measured by the mocap
 stream exactly as in the loop (noise, dropouts, RULA per frame); its G_i at the ergonomics rate is one
 execution, whose coefficient is α = exp(-∫G/C), i.e. V after the action from zero wear (eq. 4, 9). The
-part is then put where the action leaves it (placed on its target, or seated in its hollow), so the next
+part is then put where the action leaves it (placed on its target, or seated in its slot), so the next
 action sees the right scene: postures depend on where things are, not on how the part got there, so the
 passes skip the physics. Passes are recorded lazily, as many as the adaptive-η procedure of
 :func:`ergosim.ergonomics.calibration.calibrate` asks for.
@@ -78,6 +78,8 @@ class SceneCalibration:
             put_part(cell, geom.part, pos, quat)
             if geom.seats:
                 cell.seat(geom.part)
+            elif geom.received:
+                cell.receive(geom.part, pos)
         cell.reset_parts()
         self.passes.append(executions)
 

@@ -19,6 +19,7 @@ import numpy as np  # noqa: E402
 
 from ergosim.atomic import write_bytes  # noqa: E402
 from ergosim.posture import KWEAR_JOINTS  # noqa: E402
+from ergosim.twin.modes import mode_or_default  # noqa: E402
 
 __all__ = ["write_plots", "save_figure", "kwear_timeline"]
 
@@ -55,7 +56,7 @@ def _timeline(out: Path, mode: str, run, v_th: float) -> None:
         ax.plot(t, v[:, i], label=j, color=COLOURS[j], lw=1)
     ax.axhline(v_th, color="k", ls="--", lw=0.8, label="V_th")
     for a in run.allocations:
-        if a.agent != "human":
+        if run.by_robot(a.agent):
             ax.axvspan(a.t_start, a.t_end, color="0.85", lw=0)
     ax.set(title=f"KWear, first subject, {mode} (grey: robot acting)", xlabel="time [s]", ylabel="V")
     ax.set_ylim(0, 1)
@@ -88,9 +89,10 @@ def _histogram(out: Path, results, modes) -> None:
     fig, ax = plt.subplots(figsize=(5.5, 3.2))
     width = 0.8 / max(len(modes), 1)
     for k, mode in enumerate(modes):
-        allocs = [a for r in results if mode in r.runs for a in r.runs[mode].allocations
-                  if a.done and a.allocatable]  # completed actions, as robot_share in summary.json
-        share = [np.mean([a.agent != "human" for a in allocs if a.action == x] or [0.0]) for x in actions]
+        # completed actions, as robot_share in summary.json
+        done = [(a.action, r.runs[mode].by_robot(a.agent)) for r in results if mode in r.runs
+                for a in r.runs[mode].allocations if a.done and a.allocatable]
+        share = [np.mean([robot for action, robot in done if action == x] or [0.0]) for x in actions]
         ax.bar(np.arange(len(actions)) + k * width, np.array(share) * 100, width, label=mode)
     ax.set_xticks(np.arange(len(actions)) + width * (len(modes) - 1) / 2, actions)
     ax.set(ylabel="completed by the robot [%]", title="Allocation per action", ylim=(0, 100))
@@ -108,4 +110,4 @@ def write_plots(out: Path, scenario: str, results, cfg) -> None:
         _action_trace(out, action, t, v, first.name)
     for mode, run in first.runs.items():
         _timeline(out, mode, run, cfg.v_th)
-    _histogram(out, results, [m for m in cfg.modes if m not in ("h-only",)])
+    _histogram(out, results, [m for m in cfg.modes if mode_or_default(m).uses_robot])

@@ -12,6 +12,7 @@ import numpy as np
 
 from ergosim.ergonomics.kwear import KWearParams, kwear_trajectory
 from ergosim.ergonomics.risk_index import KWearIndex
+from ergosim.errors import ConfigError
 from ergosim.posture import KWEAR_JOINTS
 from ergosim.scenes import Workcell, build_cell
 from ergosim.twin.allocator import Allocator
@@ -27,7 +28,7 @@ from ergosim.worker.motion import Worker
 from ergosim.worker.subjects import Subject, make_subjects
 
 __all__ = ["SubjectResult", "Rig", "scenario_subject", "subject_cell", "build_rig", "make_allocator",
-           "run_subject"]
+           "subject_session", "run_subject"]
 
 
 @dataclasses.dataclass
@@ -51,13 +52,19 @@ class SubjectResult:
 
 @dataclasses.dataclass
 class Rig:
-    """Everything physical for one subject: workcell, plant, worker, robot (None in a cell without one)."""
+    """Everything physical for one subject: workcell, plant, worker, the robots by name (none in a cell
+    without one) and the task graph."""
 
     cell: Workcell
     plant: Plant
     worker: Worker
-    robot: RobotTrack | None
+    robots: dict[str, RobotTrack]
     graph: object
+
+    @property
+    def robot(self) -> RobotTrack | None:
+        """The cell's first robot, or None."""
+        return next(iter(self.robots.values()), None)
 
 
 def scenario_subject(scenario: Scenario, index: int, seed: int) -> Subject:
@@ -88,9 +95,10 @@ def build_rig(scenario: Scenario, subject: Subject, rng: np.random.Generator, re
     kwear = KWearIndex(subject.kwear_params(), alphas or {}, online_weight=cfg.online_alpha_weight)
     plant = Plant(cell, track, kwear, mocap_rate=cfg.mocap_rate,
                   ergonomics_rate=cfg.ergonomics_rate, physics_dt=cfg.physics_dt, record_bodies=record_bodies)
-    robot = RobotTrack(cell, ee_speed=cfg.ee_speed, transit_speed=cfg.transit_speed) if cell.robots else None
-    plant.robot = robot
-    return Rig(cell, plant, track.worker, robot, scenario.task())
+    robots = {r: RobotTrack(cell, ee_speed=cfg.ee_speed, transit_speed=cfg.transit_speed, robot=r)
+              for r in cell.robots}
+    plant.robot = next(iter(robots.values()), None)
+    return Rig(cell, plant, track.worker, robots, scenario.task())
 
 
 def _calibrate(scenario: Scenario, subject: Subject, rng: np.random.Generator):
@@ -121,6 +129,34 @@ def make_allocator(scenario: Scenario, mode_name: str, rig: Rig, calibration) ->
     return Allocator(rig.graph, mode, index=index, cost=cost, planner=cfg.planner)
 
 
+def _session(scenario: Scenario, index: int, subject: Subject, mode: str, rng: np.random.Generator,
+             calibration, record_bodies: bool = False) -> Session:
+    rig = build_rig(scenario, subject, rng, record_bodies=record_bodies,
+                    alphas=calibration.alphas if calibration is not None else None)
+    allocator = make_allocator(scenario, mode, rig, calibration)
+    return Session(cfg=scenario.protocol, mode=mode, subject_index=index, worker=rig.worker, plant=rig.plant,
+                   robot=rig.robots, allocator=allocator, rng=rng)
+
+
+def subject_session(scenario: Scenario, index: int, seed: int, mode: str, *, calibrate: bool = True,
+                    record_bodies: bool = False) -> Session:
+    """A ready :class:`Session` of subject ``index`` of ``seed``'s population in ``mode``, for stepping by
+    hand: ``session.run(n)`` repetitions, or ``session.perform(action, agent)`` one action at a time.
+
+    ``calibrate``: calibrate the subject first (§5), as a run does; a mode without a risk index (``h-only``,
+    ``r-only``) may skip it. Draws from ``SeedSequence([seed, index])`` like the subject's run, whose first
+    mode it then equals."""
+    mode_spec = get_mode(mode)
+    if not calibrate and mode_spec.risk_index is not None:
+        raise ConfigError(f"mode {mode!r} prices the worker with risk index {mode_spec.risk_index!r}, which "
+                          "needs the subject's calibration: calibrate=True", where="subject_session")
+    subject = scenario_subject(scenario, index, seed)
+    seqs = np.random.SeedSequence([seed, index]).spawn(2)
+    calibration = _calibrate(scenario, subject, np.random.default_rng(seqs[0]))[0] if calibrate else None
+    return _session(scenario, index, subject, mode, np.random.default_rng(seqs[1]), calibration,
+                    record_bodies=record_bodies)
+
+
 def run_subject(scenario: Scenario, index: int, seed: int, modes: tuple[str, ...],
                 record_mode: str | None = None) -> SubjectResult:
     """Calibrate subject ``index`` of ``seed``'s population, then run each mode from zero wear.
@@ -132,11 +168,8 @@ def run_subject(scenario: Scenario, index: int, seed: int, modes: tuple[str, ...
     calibration, traces, mtm = _calibrate(scenario, subject, np.random.default_rng(seqs[0]))
     runs: dict[str, SubjectRun] = {}
     for mode, seq in zip(modes, seqs[1:], strict=True):
-        rng = np.random.default_rng(seq)
-        rig = build_rig(scenario, subject, rng, record_bodies=mode == record_mode, alphas=calibration.alphas)
-        allocator = make_allocator(scenario, mode, rig, calibration)
-        session = Session(cfg=cfg, mode=mode, subject_index=index, worker=rig.worker, plant=rig.plant,
-                          robot=rig.robot, allocator=allocator, rng=rng)
+        session = _session(scenario, index, subject, mode, np.random.default_rng(seq), calibration,
+                           record_bodies=mode == record_mode)
         runs[mode] = session.run(cfg.repetitions)
         runs[mode].calibration_eta = calibration.eta
     return SubjectResult(

@@ -17,6 +17,7 @@ import time
 from pathlib import Path
 
 from ergosim.atomic import write_json
+from ergosim.plugins import extension_modules, import_extensions
 from ergosim.twin.calibration_summary import calibration_summary
 from ergosim.twin.interrupt import Interrupted, interrupt_on_signals, quiet_worker, signals_ignored, stop_pool
 from ergosim.twin.kwear_state import state_document
@@ -50,7 +51,8 @@ class ScenarioResult:
 
 
 def _job(args) -> SubjectResult:
-    scenario, index, seed, modes, record_mode = args
+    scenario, index, seed, modes, record_mode, extensions = args
+    import_extensions(extensions)  # a worker process registers the user's modes, indices, kinds too
     return run_subject(scenario, index, seed, modes, record_mode=record_mode)
 
 
@@ -120,8 +122,8 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
     folder = RunFolder(out, scenario=name, seed=seed)
     folder.claim({k: v for k, v in vars(cfg).items()})
     jobs = max(1, min(jobs or os.cpu_count() or 1, cfg.subjects))
-    args = [(scenario, i, seed, tuple(cfg.modes), record_mode if i == record_subject else None)
-            for i in range(cfg.subjects)]
+    args = [(scenario, i, seed, tuple(cfg.modes), record_mode if i == record_subject else None,
+             extension_modules()) for i in range(cfg.subjects)]
     bar = Progress(cfg.subjects, f"{name}: subjects", enabled=progress)
     results: list[SubjectResult] = []
     start = time.monotonic()

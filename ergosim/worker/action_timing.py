@@ -8,11 +8,12 @@ index   segment                                     MTM-1 element
 0, 1    rest -> above the part -> at the part       Reach: case B (a part lying on a table) or
                                                     case A (a part held out at the handover pose)
 2       closing the hand on the part                Grasp G1A
-3, 4, 5 lift, carry, lower onto the target          Move: case B (to an approximate location: place,
-                                                    remove) or C (to an exact location: insert, fasten)
-6       fitting the part on its target              Position P1 (place, remove: loose fit) or P2 + AP2
-                                                    (insert, fasten: close fit, pushed home); a fastener
-                                                    is then held and turned for the action's turn time
+3, 4, 5 lift, carry, lower onto the target          Move: case B (to an approximate location: a part
+                                                    set down) or C (to an exact location: a part that
+                                                    seats in a slot)
+6       fitting the part on its target              Position P1 (set down: loose fit) or P2 + AP2
+                                                    (seated: close fit, pushed home); a fastener is then
+                                                    held and turned for the action's turn time
 7       letting go                                  Release RL1
 8, 9    retreat -> rest                             Reach case E (hand out of the way)
 ======  ==========================================  =============================================
@@ -38,15 +39,14 @@ from ergosim.worker.mtm import (
     tmu_to_s,
 )
 
-__all__ = ["ActionTiming", "action_timing", "POSITION_BY_KIND", "N_SEGMENTS"]
+__all__ = ["ActionTiming", "action_timing", "LOOSE_FIT", "CLOSE_FIT", "FASTENER_FIT", "N_SEGMENTS"]
 
 N_SEGMENTS = 10
 _REACH, _GRASP, _MOVE, _POSITION, _RELEASE, _RETURN = (0, 1), (2,), (3, 4, 5), (6,), (7,), (8, 9)
 
-POSITION_BY_KIND = {"place": "P1SS", "remove": "P1SS", "insert": "P2SS", "fasten": "P2S"}
-"""MTM-1 Position element per action kind: a part set on an area (P1, loose), a square profile into its
-socket (P2, close fit, semi-symmetric: it goes in four ways), a round fastener (P2, symmetric)."""
-_PUSHED = ("insert", "fasten")
+LOOSE_FIT, CLOSE_FIT, FASTENER_FIT = "P1SS", "P2SS", "P2S"
+"""MTM-1 Position elements: a part set on an area (P1, loose fit), a square profile into its socket (P2,
+close fit, semi-symmetric: it goes in four ways), a round fastener (P2, symmetric)."""
 
 
 @dataclass(frozen=True)
@@ -68,11 +68,11 @@ def _share(total: float, lengths: np.ndarray) -> np.ndarray:
     return np.full(len(lengths), total / len(lengths)) if s <= 0 else total * lengths / s
 
 
-def action_timing(hands: np.ndarray, kind: str, handover: bool = False,
+def action_timing(hands: np.ndarray, seats: bool, handover: bool = False,
                   turn_time: float = 0.0) -> ActionTiming:
     """MTM-1 timing of one action from the acting hand's positions at its 11 key poses, ``hands`` (11, 3)
-    [m], the action ``kind`` (place | insert | fasten | remove), whether the part is ``handover``-ed by a
-    robot, and a fastener's ``turn_time`` [s]."""
+    [m]: whether the part ``seats`` in a slot (aligned and pushed in) or is set down, whether it is
+    ``handover``-ed by a robot, and a fastener's ``turn_time`` [s] (> 0: the part is a fastener)."""
     hands = np.asarray(hands, dtype=float)
     if hands.shape != (N_SEGMENTS + 1, 3):
         raise ValueError(f"expected (11, 3) key-pose hand positions, got {hands.shape}")
@@ -80,17 +80,17 @@ def action_timing(hands: np.ndarray, kind: str, handover: bool = False,
     d = {name: lengths[list(idx)] for name, idx in
          (("reach", _REACH), ("move", _MOVE), ("return", _RETURN))}
     reach_case = "A" if handover else "B"
-    move_case = "C" if kind in _PUSHED else "B"
-    position = POSITION_BY_KIND.get(kind, "P1SS")
+    move_case = "C" if seats else "B"
+    position = (FASTENER_FIT if turn_time > 0 else CLOSE_FIT) if seats else LOOSE_FIT
     dur = np.zeros(N_SEGMENTS)
     reach = reach_tmu(d["reach"].sum(), reach_case)
     move = move_tmu(d["move"].sum(), move_case)
     back = reach_tmu(d["return"].sum(), "E")
-    fit = POSITION_TMU[position] + (APPLY_PRESSURE_TMU["AP2"] if kind in _PUSHED else 0.0)
+    fit = POSITION_TMU[position] + (APPLY_PRESSURE_TMU["AP2"] if seats else 0.0)
     dur[list(_REACH)] = _share(tmu_to_s(reach), d["reach"])
     dur[_GRASP[0]] = tmu_to_s(GRASP_TMU["G1A"])
     dur[list(_MOVE)] = _share(tmu_to_s(move), d["move"])
-    dur[_POSITION[0]] = tmu_to_s(fit) + (float(turn_time) if kind == "fasten" else 0.0)
+    dur[_POSITION[0]] = tmu_to_s(fit) + float(turn_time)
     dur[_RELEASE[0]] = tmu_to_s(RELEASE_TMU["RL1"])
     dur[list(_RETURN)] = _share(tmu_to_s(back), d["return"])
 
@@ -99,9 +99,9 @@ def action_timing(hands: np.ndarray, kind: str, handover: bool = False,
 
     words = [f"R{inch(d['reach'].sum())}{reach_case}", "G1A", f"M{inch(d['move'].sum())}{move_case}",
              position]
-    if kind in _PUSHED:
+    if seats:
         words.append("AP2")
-    if kind == "fasten" and turn_time > 0:
+    if turn_time > 0:
         words.append(f"hold {turn_time:g} s")
     words += ["RL1", f"R{inch(d['return'].sum())}E"]
     return ActionTiming(dur, " ".join(words))

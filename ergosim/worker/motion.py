@@ -121,7 +121,8 @@ class Worker:
              handover: bool = False) -> ActionMotion:
         """Plan one execution of ``geometry`` from the current scene state.
 
-        ``geometry`` has ``part`` (the part's body name), ``kind`` (place | insert | fasten | remove) and
+        ``geometry`` has ``part`` (the part's body name), ``kind`` (an action kind,
+        :mod:`ergosim.scenes.action_kinds`), ``seats`` (the part ends in a slot: aligned and pushed in) and
         ``target`` or ``target_site`` (the site where the part's origin must end up); a fasten action also
         has ``turn_time`` [s], the time the fastener is held and turned once inserted.
 
@@ -184,7 +185,9 @@ class Worker:
 
         keys = [self.rest, k1, k2, k2, k3, k4, k5, k5, k5, k6, self.rest]
         hands = np.array([ik.hand_pos(k, side) for k in keys])
-        timing = action_timing(hands, kind, handover=handover, turn_time=getattr(geometry, "turn_time", 0.0))
+        seats = getattr(geometry, "seats", kind in ("insert", "fasten"))
+        timing = action_timing(hands, seats=seats, handover=handover,
+                               turn_time=getattr(geometry, "turn_time", 0.0))
         # MTM-1 standard times at the subject's pace, with trial-to-trial jitter on each segment; always
         # drawn, so the rng stream does not depend on its size
         jitter = rng.lognormal(0.0, self.subject.timing_variability, len(timing.durations))
@@ -202,7 +205,7 @@ class Worker:
         angles = interpolate_keyframes(key_t, np.asarray(keys), t)
         local = ik.hand_path(angles, side)
         hand_world = (local - self._root_pos) @ r_frame.T + frame[0]
-        kind_name = kind if kind in ("insert", "fasten") else "place"
+        kind_name = "fasten" if getattr(geometry, "turn_time", 0.0) else "insert" if seats else "place"
         phases = (
             Phase("reach", 0.0, key_t[2]),
             Phase("take" if handover else "grasp", key_t[2], key_t[3]),

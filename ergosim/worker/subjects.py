@@ -65,8 +65,9 @@ class Subject:
 
     @property
     def workcell_fields(self) -> dict[str, Any]:
-        """The workcell config fields that build this subject's body in a scene (stature, segment scaling)."""
-        return {"stature": self.stature, "human_scale": self.scale}
+        """The workcell fields, by dotted path, that build this subject's body in a scene (stature, segment
+        scaling); any workcell file has them."""
+        return {"worker.stature": self.stature, "worker.human_scale": self.scale}
 
     def spec(self, keyframe: str | None = "home") -> mujoco.MjSpec:
         """The subject's human body (attach it into a scene, or compile it on its own)."""
