@@ -19,6 +19,7 @@ from ergosim.robot.status import SKILL_PHASES, SkillResult, SkillStatus
 from ergosim.robot.time_scaling import speed_profile, trapezoid
 from ergosim.robot.trajectory import (
     CONTACT_SPEED,
+    PANDA_MAX_ROTATION,
     SEGMENT_KINDS,
     TRANSIT_SPEED,
     BaseFrame,
@@ -64,6 +65,7 @@ __all__ = [
     "SkillResult",
     "SkillStatus",
     "CONTACT_SPEED",
+    "PANDA_MAX_ROTATION",
     "SEGMENT_KINDS",
     "TRANSIT_SPEED",
     "SpeedLimit",

@@ -62,7 +62,7 @@ class SkillParams:
     contact_margin: float = 0.01  # assumed: 1 cm of contact-speed travel before the first possible touch
     insert_approach: float = 0.06  # assumed: a profile's 3 cm sleeve engagement twice over
     lift: float = 0.05  # assumed
-    finger_speed: float = 0.05  # per finger: the 0.1 m/s opening speed frankx's Gripper allows (max_speed)
+    finger_speed: float = 0.05  # assumed: 0.1 m/s of opening, frankx's Gripper::max_speed for the Franka Hand
     settle: float = 0.25  # assumed
     handover_timeout: float = 30.0
     place_drop: float = 0.002

@@ -28,9 +28,9 @@ from ergosim.robot.ik import solve_ik
 from ergosim.robot.kinematics import PandaKinematics
 from ergosim.robot.time_scaling import speed_profile, trapezoid
 
-__all__ = ["SEGMENT_KINDS", "CONTACT_SPEED", "TRANSIT_SPEED", "SpeedLimit", "MotionLimits", "Pose",
-           "BaseFrame", "PathError", "line_trajectory", "segment_trajectory", "joint_trajectory",
-           "transit_trajectory", "trapezoid"]
+__all__ = ["SEGMENT_KINDS", "CONTACT_SPEED", "TRANSIT_SPEED", "PANDA_MAX_ROTATION", "SpeedLimit",
+           "MotionLimits", "Pose", "BaseFrame", "PathError", "line_trajectory", "segment_trajectory",
+           "joint_trajectory", "transit_trajectory", "trapezoid"]
 
 SEGMENT_KINDS = ("contact", "transit")
 """The two kinds of robot motion segment, each with its own speed cap (module docstring)."""
@@ -39,6 +39,8 @@ CONTACT_SPEED = 0.05
 """Contact-critical TCP speed [m/s]: the paper's conservative 0.05 m/s (§7.2)."""
 TRANSIT_SPEED = 0.25
 """Free-space TCP speed [m/s]: ISO 10218-1:2011 §5.6 reduced speed, TCP at most 250 mm/s."""
+PANDA_MAX_ROTATION = 2.5
+"""The Panda's Cartesian rotation limit [rad/s] (libfranka rate_limiting.h, kMaxRotationalVelocity)."""
 
 
 class SpeedLimit(NamedTuple):
@@ -55,7 +57,8 @@ class MotionLimits:
 
     ``speed``/``accel``/``angular_speed``: contact-critical segments [m/s, m/s^2, rad/s];
     ``transit_speed``/``transit_accel``: free-space transits, whose angular speed is capped so that a point
-    ``sweep_radius`` [m] from the TCP moves at most at ``transit_speed``. Joints use at most
+    ``sweep_radius`` [m] from the TCP moves at most at ``transit_speed`` (and at the Panda's
+    :data:`PANDA_MAX_ROTATION`). Joints use at most
     ``joint_speed_fraction`` of their URDF velocity limits; ``sample`` [m] and ``sample_angle`` [rad] between
     IK solutions of a straight segment; ``max_joint_step`` [rad] largest joint change between two samples (a
     larger one means the IK switched branch and the straight line is not followable)."""
@@ -64,7 +67,7 @@ class MotionLimits:
     accel: float = 0.25  # assumed: a 0.2 s ramp to the contact speed
     angular_speed: float = 0.5  # assumed
     transit_speed: float = TRANSIT_SPEED  # ISO 10218-1:2011 §5.6 reduced speed, <= 250 mm/s
-    transit_accel: float = 1.0  # assumed: a 0.25 s ramp; the Panda's Cartesian limit is 13 m/s^2 (FCI)
+    transit_accel: float = 1.0  # assumed; Panda limit 13 m/s^2 (libfranka kMaxTranslationalAcceleration)
     sweep_radius: float = 0.25  # assumed: the hand and a held part (profiles 0.3 m, held mid-way) lie within
     joint_speed_fraction: float = 0.8
     sample: float = 0.01
@@ -76,7 +79,8 @@ class MotionLimits:
         if kind == "contact":
             return SpeedLimit(self.speed, self.accel, self.angular_speed)
         if kind == "transit":
-            return SpeedLimit(self.transit_speed, self.transit_accel, self.transit_speed / self.sweep_radius)
+            return SpeedLimit(self.transit_speed, self.transit_accel,
+                              min(self.transit_speed / self.sweep_radius, PANDA_MAX_ROTATION))
         raise ValueError(f"segment kind must be one of {', '.join(SEGMENT_KINDS)}, got {kind!r}")
 
 
