@@ -16,11 +16,10 @@ import mujoco
 import numpy as np
 
 from ergosim.twin.recording import record_run
-from ergosim.twin.runner import _calibrate, build_rig, make_allocator
+from ergosim.twin.runner import _calibrate, build_rig, make_allocator, scenario_subject
 from ergosim.twin.scenariofile import load_scenario
 from ergosim.twin.session import Session
 from ergosim.viz import open_recording
-from ergosim.worker.subjects import make_subjects
 
 __all__ = ["bench_repetition", "bench_sim", "bench_full"]
 
@@ -32,8 +31,8 @@ def bench_repetition(scenario: str = "multi-subject", mode: str = "hrc", seed: i
     sc = load_scenario(scenario, {f"scene.{k}": v for k, v in (scene_overrides or {}).items()})
     sc = sc.with_overrides({"repetitions": str(repetitions), "modes": mode})
     cfg = sc.protocol
-    subject = make_subjects(1, seed)[0]
-    calibration, _ = _calibrate(sc, subject, np.random.default_rng([seed, 1]))
+    subject = scenario_subject(sc, 0, seed)
+    calibration, _, _ = _calibrate(sc, subject, np.random.default_rng([seed, 1]))
     rng = np.random.default_rng([seed, 2])
     rig = build_rig(sc, subject, rng, record_bodies=record, alphas=calibration.alphas)
     session = Session(cfg=cfg, mode=mode, subject_index=0, worker=rig.worker, plant=rig.plant,

@@ -60,6 +60,8 @@ class SceneCalibration:
         self.tick_every = int(tick_every)
         self.dt_tick = float(dt_tick)
         self.passes: list[dict[str, Execution]] = []
+        self.mtm: dict[str, str] = {}
+        """action -> the MTM-1 analysis of its first recorded execution."""
 
     def _record_pass(self) -> None:
         cell, worker = self.cell, self.track.worker
@@ -67,7 +69,9 @@ class SceneCalibration:
         executions: dict[str, Execution] = {}
         for action in self.actions:
             geom = cell.actions[action]
-            seg = self.track.start_action(worker.plan(cell, geom, self.rng, action=action))
+            motion = worker.plan(cell, geom, self.rng, action=action)
+            self.mtm.setdefault(action, motion.mtm)
+            seg = self.track.start_action(motion)
             ticks = np.arange(self.tick_every - 1, seg.n, self.tick_every)
             executions[action] = Execution(seg.g[ticks], self.dt_tick, seg.grand[ticks])
             pos, quat = cell.site_pose(geom.target)

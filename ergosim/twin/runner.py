@@ -10,7 +10,7 @@ import dataclasses
 
 import numpy as np
 
-from ergosim.ergonomics.kwear import kwear_trajectory
+from ergosim.ergonomics.kwear import KWearParams, kwear_trajectory
 from ergosim.ergonomics.risk_index import KWearIndex
 from ergosim.posture import KWEAR_JOINTS
 from ergosim.scenes import Workcell, build_cell
@@ -26,7 +26,8 @@ from ergosim.twin.worker_track import WorkerTrack
 from ergosim.worker.motion import Worker
 from ergosim.worker.subjects import Subject, make_subjects
 
-__all__ = ["SubjectResult", "Rig", "subject_cell", "build_rig", "make_allocator", "run_subject"]
+__all__ = ["SubjectResult", "Rig", "scenario_subject", "subject_cell", "build_rig", "make_allocator",
+           "run_subject"]
 
 
 @dataclasses.dataclass
@@ -42,6 +43,10 @@ class SubjectResult:
     rula_g: dict[str, float]
     traces: dict[str, tuple[np.ndarray, np.ndarray]] = dataclasses.field(default_factory=dict)
     """action -> (t (n,) [s], V (n, 5)): KWear from zero wear in the first calibration execution."""
+    kwear_params: KWearParams = KWearParams()
+    """The subject's KWear constants (C, r, ...; eq. 6-7)."""
+    mtm: dict[str, str] = dataclasses.field(default_factory=dict)
+    """action -> its MTM-1 analysis in the first calibration execution (ergosim.worker.action_timing)."""
 
 
 @dataclasses.dataclass
@@ -53,6 +58,13 @@ class Rig:
     worker: Worker
     robot: RobotTrack | None
     graph: object
+
+
+def scenario_subject(scenario: Scenario, index: int, seed: int) -> Subject:
+    """Subject ``index`` of ``seed``'s population, drawn as the scenario's protocol says (female fraction,
+    pace); it depends only on (seed, index)."""
+    cfg = scenario.protocol
+    return make_subjects(index + 1, seed, female_fraction=cfg.female_fraction, pace=cfg.pace)[index]
 
 
 def subject_cell(scenario: Scenario, subject: Subject) -> Workcell:
@@ -82,7 +94,8 @@ def build_rig(scenario: Scenario, subject: Subject, rng: np.random.Generator, re
 
 
 def _calibrate(scenario: Scenario, subject: Subject, rng: np.random.Generator):
-    """Calibrate ``subject`` in the scenario's workcell; also return the first pass's KWear traces."""
+    """Calibrate ``subject`` in the scenario's workcell; also return the first pass's KWear traces and MTM-1
+    analyses."""
     cfg = scenario.protocol
     cell = subject_cell(scenario, subject)
     subject = _subject_in(cell, subject)
@@ -95,7 +108,7 @@ def _calibrate(scenario: Scenario, subject: Subject, rng: np.random.Generator):
     for action, ex in cal.passes[0].items():
         v = kwear_trajectory(np.zeros(len(KWEAR_JOINTS)), ex.g, ex.dt, params)
         traces[action] = (np.arange(1, len(v) + 1) * cal.dt_tick, v)
-    return result, traces
+    return result, traces, dict(cal.mtm)
 
 
 def make_allocator(scenario: Scenario, mode_name: str, rig: Rig, calibration) -> Allocator:
@@ -114,9 +127,9 @@ def run_subject(scenario: Scenario, index: int, seed: int, modes: tuple[str, ...
 
     ``record_mode``: keep body poses per tick for that mode's run (for the rerun recording)."""
     cfg = scenario.protocol
-    subject = make_subjects(index + 1, seed)[index]
+    subject = scenario_subject(scenario, index, seed)
     seqs = np.random.SeedSequence([seed, index]).spawn(1 + len(modes))
-    calibration, traces = _calibrate(scenario, subject, np.random.default_rng(seqs[0]))
+    calibration, traces, mtm = _calibrate(scenario, subject, np.random.default_rng(seqs[0]))
     runs: dict[str, SubjectRun] = {}
     for mode, seq in zip(modes, seqs[1:], strict=True):
         rng = np.random.default_rng(seq)
@@ -131,5 +144,5 @@ def run_subject(scenario: Scenario, index: int, seed: int, modes: tuple[str, ...
         calibration_errors={a: float(c.max_error.max()) for a, c in calibration.actions.items()},
         alphas={a: [float(x) for x in c.alpha] for a, c in calibration.actions.items()},
         rula_g={a: float(c.rula_grand) for a, c in calibration.actions.items()},
-        traces=traces,
+        traces=traces, kwear_params=subject.kwear_params(), mtm=mtm,
     )

@@ -68,6 +68,10 @@ class ScenarioConfig:
     """Multiplier of each subject's sensor noise (drifting bias and white noise): 0 none, 1 the subject's."""
     dropout_rate: float = 0.0
     planner: Literal["fast", "paper"] = "fast"
+    female_fraction: float = 2.0 / 12.0
+    """Share of women among the synthetic subjects: §7.2's cohort, "2 females and 10 males"."""
+    pace: float = 1.0
+    """Mean pace of the subjects: 1 = MTM-1 standard performance (ergosim.worker.action_timing)."""
 
     def validate(self, where: str = "scenario") -> None:
         def need(ok: bool, msg: str) -> None:
@@ -106,6 +110,9 @@ class ScenarioConfig:
         need(self.noise_scale >= 0, "noise_scale must be >= 0")
         need(0 <= self.dropout_rate < 1, "dropout_rate must be in [0, 1)")
         need(0 < self.rula_threshold_fraction <= 1, "rula_threshold_fraction must be in (0, 1]")
+        need(0 <= self.female_fraction <= 1, f"female_fraction must be in [0, 1], got {self.female_fraction}")
+        need(0.1 <= self.pace <= 2.0, f"pace must be in [0.1, 2] (1 = MTM-1 standard performance), "
+             f"got {self.pace}")
 
     @property
     def rula_threshold(self) -> float:

@@ -17,6 +17,7 @@ import time
 from pathlib import Path
 
 from ergosim.atomic import write_json
+from ergosim.twin.calibration_summary import calibration_summary
 from ergosim.twin.interrupt import Interrupted, interrupt_on_signals, quiet_worker, signals_ignored, stop_pool
 from ergosim.twin.kwear_state import state_document
 from ergosim.twin.plots import write_plots
@@ -24,10 +25,9 @@ from ergosim.twin.progress import Progress
 from ergosim.twin.recording import record_run
 from ergosim.twin.report import summarise, write_allocations, write_failures, write_summary, write_ticks
 from ergosim.twin.run_folder import RunFolder
-from ergosim.twin.runner import SubjectResult, run_subject, subject_cell
+from ergosim.twin.runner import SubjectResult, run_subject, scenario_subject, subject_cell
 from ergosim.twin.scenario import ScenarioConfig
 from ergosim.twin.scenariofile import Scenario
-from ergosim.worker.subjects import make_subjects
 
 __all__ = ["run_scenario", "ScenarioResult", "EXIT_ABANDONED"]
 
@@ -60,15 +60,11 @@ def _write(out: Path, name: str, seed: int, cfg: ScenarioConfig, results: list[S
     modes = {m: [r.runs[m] for r in results if m in r.runs] for m in cfg.modes}
     extra = {
         "subjects": [r.name for r in results],
-        "calibration": {
-            "eta_by_subject": [r.eta for r in results],
-            "max_error_by_subject": [r.calibration_errors for r in results],
-            "rula_g_by_subject": [r.rula_g for r in results],
-            "alpha_by_subject": [r.alphas for r in results],
-        },
+        "calibration": calibration_summary(results),
         "config": {k: v for k, v in vars(cfg).items()},
     }
     summary = summarise(name, seed, modes, actions=list(_actions(results)), complete=complete, extra=extra)
+    summary["rula_g_by_action"] = extra["calibration"]["rula_g_by_action"]  # G(a_k) per action, over subjects
     abandoned = sum(m["repetitions_abandoned"] for m in summary["modes"].values())
     summary["status"] = "abandoned" if status == "complete" and abandoned else status
     summary["complete"] = complete and not abandoned
@@ -89,7 +85,7 @@ def _write(out: Path, name: str, seed: int, cfg: ScenarioConfig, results: list[S
 def _write_states(out: Path, name: str, seed: int, cfg: ScenarioConfig, results: list[SubjectResult]) -> None:
     """kwear_state_s<subject>_<mode>.json: the KWear state each run ended with (ergosim.twin.kwear_state)."""
     for r in results:
-        params = make_subjects(r.subject + 1, seed)[r.subject].kwear_params()
+        params = r.kwear_params
         for mode, run in r.runs.items():
             rows = run.ticks.rows
             doc = state_document(
@@ -180,7 +176,7 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
     results.sort(key=lambda r: r.subject)
     chosen = [r for r in results if r.subject == record_subject]
     if record_mode is not None and chosen:
-        subject = make_subjects(record_subject + 1, seed)[record_subject]
+        subject = scenario_subject(scenario, record_subject, seed)
         cell = subject_cell(scenario, subject)
         record_run(recorder, cell.model, chosen[0].runs[record_mode], cfg.v_th, cell.parts)
     return ScenarioResult(results, summary, out, time.monotonic() - start, status)
