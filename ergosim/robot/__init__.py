@@ -20,6 +20,7 @@ from ergosim.robot.time_scaling import speed_profile, trapezoid
 from ergosim.robot.trajectory import (
     CONTACT_SPEED,
     PANDA_MAX_ROTATION,
+    PANDA_MAX_ROTATION_ACCEL,
     SEGMENT_KINDS,
     TRANSIT_SPEED,
     BaseFrame,
@@ -66,6 +67,7 @@ __all__ = [
     "SkillStatus",
     "CONTACT_SPEED",
     "PANDA_MAX_ROTATION",
+    "PANDA_MAX_ROTATION_ACCEL",
     "SEGMENT_KINDS",
     "TRANSIT_SPEED",
     "SpeedLimit",
