@@ -19,6 +19,8 @@ from ergosim.robot.status import SKILL_PHASES, SkillResult, SkillStatus
 from ergosim.robot.time_scaling import speed_profile, trapezoid
 from ergosim.robot.trajectory import (
     CONTACT_SPEED,
+    PANDA_MAX_ROTATION,
+    PANDA_MAX_ROTATION_ACCEL,
     SEGMENT_KINDS,
     TRANSIT_SPEED,
     BaseFrame,
@@ -64,6 +66,8 @@ __all__ = [
     "SkillResult",
     "SkillStatus",
     "CONTACT_SPEED",
+    "PANDA_MAX_ROTATION",
+    "PANDA_MAX_ROTATION_ACCEL",
     "SEGMENT_KINDS",
     "TRANSIT_SPEED",
     "SpeedLimit",

@@ -61,7 +61,7 @@ class SkillParams:
     contact_margin: float = 0.01  # assumed: 1 cm of contact-speed travel before the first possible touch
     insert_approach: float = 0.06  # assumed: a profile's 3 cm sleeve engagement twice over
     lift: float = 0.05  # assumed
-    finger_speed: float = 0.05  # per finger: the 0.1 m/s opening speed frankx's Gripper allows (max_speed)
+    finger_speed: float = 0.05  # assumed: 0.1 m/s of opening, frankx's Gripper::max_speed for the Franka Hand
     settle: float = 0.25  # assumed
     handover_timeout: float = 30.0
     place_drop: float = 0.002
@@ -326,10 +326,18 @@ class Skill(ABC):
         p = self.params
         home_base = Pose(*self.kin.fk(self.kin.home))
         high = max(tcp_from.pos[2] + p.approach, self.base.to_world(home_base).pos[2])
+        up = None
         try:
             up = self._plan(q_from, [_Waypoint(Pose(np.r_[tcp_from.pos[:2], high], tcp_from.rot),
                                                slow_first=slow_first)], phase="home")
         except PathError:
+            if slow_first > 0:  # at least the contact-critical retreat, if the climb is out of reach
+                back = Pose(tcp_from.pos + np.array([0.0, 0.0, slow_first]), tcp_from.rot)
+                try:
+                    up = self._plan(q_from, [_Waypoint(back, kind="contact")])
+                except PathError:
+                    pass
+        if up is None:
             up = _Motion(np.asarray(q_from, dtype=float)[None, :], (("home", 1),))
         traj = self._joint_move(up.end, self.kin.home, self.kin.fk(up.end)[0][2], home_base.pos[2], "transit")
         if traj is None:  # no straight alternative onto a joint configuration: take it, dip and all
@@ -445,18 +453,15 @@ class _Carry(Skill):
         except PathError:
             return carry
 
-    def _replan_leave(self, leave: _Motion, planned_from: np.ndarray, away: np.ndarray,
-                      contact: float) -> _Motion:
-        """The way out (:meth:`_leave`, planned from ``planned_from``) from where the re-planned carry
-        actually ended, so the retreat starts where the arm is; keeps the planned one if the new one
-        fails."""
+    def _join_leave(self, leave: _Motion, planned_from: np.ndarray) -> _Motion:
+        """The way out (:meth:`_leave`, planned from ``planned_from``) preceded by a contact-speed joint move
+        from where the re-planned carry actually ended (a fraction of a millimetre away), so the retreat
+        starts where the arm is."""
         if np.allclose(self._carried_to, planned_from, atol=1e-9):
             return leave
-        end = self.base.to_world(Pose(*self.kin.fk(self._carried_to)))
-        try:
-            return self._leave(self._carried_to, end, away, contact)
-        except PathError:
-            return leave
+        bridge, _ = transit_trajectory(self.kin, self._carried_to, planned_from, self.params.limits, self.dt,
+                                       kind="contact")
+        return _Motion(bridge, (("contact", len(bridge)),)).then(leave)
 
     def _carry(self, reach: _Motion, carry: _Motion) -> Generator[None, None, SkillResult | None]:
         """Execute reach, grasp and carry; a failure result (after returning home) or None on arrival."""
@@ -539,7 +544,7 @@ class PickPlace(_Carry):
             failure = yield from self._carry(reach, carry)
             if failure is not None:
                 return failure
-            leave = self._replan_leave(leave, carry.end, self.approach_dir, contact)
+            leave = self._join_leave(leave, carry.end)
             if self.hold > 0:
                 yield from self._hold(self.hold, phase="contact")
             received = self.wc.receive(self.part, self.target.pos) if self.receive else None
@@ -599,7 +604,7 @@ class Handover(_Carry):
         failure = yield from self._carry(reach, carry)
         if failure is not None:
             return failure
-        leave = self._replan_leave(leave, carry.end, up, self.zone)
+        leave = self._join_leave(leave, carry.end)
         waited = 0
         self._phase = "wait"
         while not self.taken(self.wc):

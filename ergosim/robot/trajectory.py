@@ -28,9 +28,9 @@ from ergosim.robot.ik import solve_ik
 from ergosim.robot.kinematics import PandaKinematics
 from ergosim.robot.time_scaling import speed_profile, trapezoid
 
-__all__ = ["SEGMENT_KINDS", "CONTACT_SPEED", "TRANSIT_SPEED", "SpeedLimit", "MotionLimits", "Pose",
-           "BaseFrame", "PathError", "line_trajectory", "segment_trajectory", "joint_trajectory",
-           "transit_trajectory", "trapezoid"]
+__all__ = ["SEGMENT_KINDS", "CONTACT_SPEED", "TRANSIT_SPEED", "PANDA_MAX_ROTATION",
+           "PANDA_MAX_ROTATION_ACCEL", "SpeedLimit", "MotionLimits", "Pose", "BaseFrame", "PathError",
+           "line_trajectory", "segment_trajectory", "joint_trajectory", "transit_trajectory", "trapezoid"]
 
 SEGMENT_KINDS = ("contact", "transit")
 """The two kinds of robot motion segment, each with its own speed cap (module docstring)."""
@@ -39,14 +39,20 @@ CONTACT_SPEED = 0.05
 """Contact-critical TCP speed [m/s]: the paper's conservative 0.05 m/s (§7.2)."""
 TRANSIT_SPEED = 0.25
 """Free-space TCP speed [m/s]: ISO 10218-1:2011 §5.6 reduced speed, TCP at most 250 mm/s."""
+PANDA_MAX_ROTATION = 2.5
+"""The Panda's Cartesian rotation limit [rad/s] (libfranka rate_limiting.h, kMaxRotationalVelocity)."""
+PANDA_MAX_ROTATION_ACCEL = 25.0
+"""The Panda's Cartesian rotational acceleration limit [rad/s^2] (libfranka, kMaxRotationalAcceleration)."""
 
 
 class SpeedLimit(NamedTuple):
-    """TCP caps of one segment kind: ``speed`` [m/s], ``accel`` [m/s^2], ``angular_speed`` [rad/s]."""
+    """TCP caps of one segment kind: ``speed`` [m/s], ``accel`` [m/s^2], ``angular_speed`` [rad/s],
+    ``angular_accel`` [rad/s^2]."""
 
     speed: float
     accel: float
     angular_speed: float
+    angular_accel: float
 
 
 @dataclass(frozen=True)
@@ -55,7 +61,9 @@ class MotionLimits:
 
     ``speed``/``accel``/``angular_speed``: contact-critical segments [m/s, m/s^2, rad/s];
     ``transit_speed``/``transit_accel``: free-space transits, whose angular speed is capped so that a point
-    ``sweep_radius`` [m] from the TCP moves at most at ``transit_speed``. Joints use at most
+    ``sweep_radius`` [m] from the TCP moves and accelerates at most at ``transit_speed`` and
+    ``transit_accel`` (and within the Panda's :data:`PANDA_MAX_ROTATION`, :data:`PANDA_MAX_ROTATION_ACCEL`);
+    a contact-critical rotation ramps up in the same time as the contact speed. Joints use at most
     ``joint_speed_fraction`` of their URDF velocity limits; ``sample`` [m] and ``sample_angle`` [rad] between
     IK solutions of a straight segment; ``max_joint_step`` [rad] largest joint change between two samples (a
     larger one means the IK switched branch and the straight line is not followable)."""
@@ -64,7 +72,7 @@ class MotionLimits:
     accel: float = 0.25  # assumed: a 0.2 s ramp to the contact speed
     angular_speed: float = 0.5  # assumed
     transit_speed: float = TRANSIT_SPEED  # ISO 10218-1:2011 §5.6 reduced speed, <= 250 mm/s
-    transit_accel: float = 1.0  # assumed: a 0.25 s ramp; the Panda's Cartesian limit is 13 m/s^2 (FCI)
+    transit_accel: float = 1.0  # assumed; Panda limit 13 m/s^2 (libfranka kMaxTranslationalAcceleration)
     sweep_radius: float = 0.25  # assumed: the hand and a held part (profiles 0.3 m, held mid-way) lie within
     joint_speed_fraction: float = 0.8
     sample: float = 0.01
@@ -74,9 +82,12 @@ class MotionLimits:
     def limit(self, kind: str) -> SpeedLimit:
         """The TCP caps of a ``kind`` segment (one of :data:`SEGMENT_KINDS`)."""
         if kind == "contact":
-            return SpeedLimit(self.speed, self.accel, self.angular_speed)
+            return SpeedLimit(self.speed, self.accel, self.angular_speed,
+                              self.accel * self.angular_speed / self.speed)
         if kind == "transit":
-            return SpeedLimit(self.transit_speed, self.transit_accel, self.transit_speed / self.sweep_radius)
+            return SpeedLimit(self.transit_speed, self.transit_accel,
+                              min(self.transit_speed / self.sweep_radius, PANDA_MAX_ROTATION),
+                              min(self.transit_accel / self.sweep_radius, PANDA_MAX_ROTATION_ACCEL))
         raise ValueError(f"segment kind must be one of {', '.join(SEGMENT_KINDS)}, got {kind!r}")
 
 
@@ -110,18 +121,18 @@ class BaseFrame:
 
 
 def _timed(knots: np.ndarray, times: np.ndarray, lengths: np.ndarray, angles: np.ndarray,
-           speed: np.ndarray, accel: np.ndarray, angular: np.ndarray, dt: float) -> np.ndarray:
+           accel: np.ndarray, angular_accel: np.ndarray, dt: float) -> np.ndarray:
     """Path parameter s(t) at every physics step over ``knots`` (k + 1,) in [0, 1]. Interval i takes at
     least ``times[i]`` [s] (the slowest of its TCP, rotation and joint limits); its TCP moves ``lengths[i]``
-    [m] and turns ``angles[i]`` [rad], accelerating at most ``accel[i]`` [m/s^2] and, in rotation, at
-    ``accel[i] * angular[i] / speed[i]`` [rad/s^2] (the same ramp time as to the speed cap)."""
+    [m] and turns ``angles[i]`` [rad], accelerating at most ``accel[i]`` [m/s^2] and ``angular_accel[i]``
+    [rad/s^2]. A pure null-space move (the TCP still) ramps up in 0.2 s (assumed)."""
     ds = np.diff(knots)
     caps = ds / np.maximum(times, 1e-12)
-    # metres (or radians scaled to metres) of TCP motion per unit of s; a pure null-space move keeps the
-    # ramp time of its cap
-    per_s = np.maximum(lengths, angles * speed / angular) / ds
-    accels = np.where(per_s > 1e-12, accel / np.maximum(per_s, 1e-12), caps * accel / speed)
-    return speed_profile(ds, caps, accels, dt)
+    with np.errstate(divide="ignore"):
+        acc = np.minimum(np.where(lengths > 1e-12, accel * ds / lengths, np.inf),
+                         np.where(angles > 1e-12, angular_accel * ds / angles, np.inf))
+    acc = np.where(np.isfinite(acc), acc, caps / 0.2)
+    return speed_profile(ds, caps, acc, dt)
 
 
 def line_trajectory(kin: PandaKinematics, q_start: np.ndarray, start: Pose, goal: Pose, limits: MotionLimits,
@@ -175,10 +186,11 @@ def line_trajectory(kin: PandaKinematics, q_start: np.ndarray, start: Pose, goal
     speed = np.where(slow, contact.speed, fast.speed)
     accel = np.where(slow, contact.accel, fast.accel)
     angular = np.where(slow, contact.angular_speed, fast.angular_speed)
+    angular_accel = np.where(slow, contact.angular_accel, fast.angular_accel)
     ds = np.diff(knots)
     joint_time = np.max(np.abs(np.diff(qs, axis=0)) / (kin.velocity * limits.joint_speed_fraction), axis=1)
     times = np.maximum.reduce([dist * ds / speed, angle * ds / angular, joint_time])
-    s = _timed(knots, times, dist * ds, angle * ds, speed, accel, angular, dt)
+    s = _timed(knots, times, dist * ds, angle * ds, accel, angular_accel, dt)
     traj = np.stack([np.interp(s, knots, qs[:, j]) for j in range(kin.nq)], axis=1)
     in_slow = ((s < lo + 1e-12) & (lo > 0)) | ((s > hi - 1e-12) & (hi < 1))
     return traj, in_slow
@@ -227,6 +239,6 @@ def transit_trajectory(kin: PandaKinematics, q_start: np.ndarray, q_goal: np.nda
     step_joint = float(np.max(np.abs(delta) / (kin.velocity * limits.joint_speed_fraction))) / samples
     times = np.maximum.reduce([step_len / cap.speed, step_angle / cap.angular_speed,
                                np.full(samples, step_joint)])
-    s = _timed(knots, times, step_len, step_angle, np.full(samples, cap.speed), np.full(samples, cap.accel),
-               np.full(samples, cap.angular_speed), dt)
+    s = _timed(knots, times, step_len, step_angle, np.full(samples, cap.accel),
+               np.full(samples, cap.angular_accel), dt)
     return q_start + s[:, None] * delta, low

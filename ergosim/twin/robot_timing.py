@@ -16,10 +16,9 @@ import statistics
 import numpy as np
 
 from ergosim.robot.status import SKILL_PHASES, SkillResult
-from ergosim.twin.runner import build_rig, make_allocator
+from ergosim.twin.runner import build_rig, make_allocator, scenario_subject
 from ergosim.twin.scenariofile import Scenario
 from ergosim.twin.session import Session
-from ergosim.worker.subjects import make_subjects
 
 __all__ = ["ActionTiming", "RobotOnlyRun", "robot_only_runs", "timing_summary", "format_summary"]
 
@@ -69,9 +68,9 @@ class RobotOnlyRun:
 def robot_only_runs(scenario: Scenario, subjects: int, seed: int = 0) -> list[RobotOnlyRun]:
     """One r-only repetition for each of the first ``subjects`` subjects of ``seed``'s population."""
     sc = scenario.with_overrides({"repetitions": "1", "modes": "r-only"})
-    people = make_subjects(subjects, seed)
     out = []
-    for index, subject in enumerate(people):
+    for index in range(subjects):
+        subject = scenario_subject(sc, index, seed)
         # the streams of run_subject: [calibration, r-only]
         rng = np.random.default_rng(np.random.SeedSequence([seed, index]).spawn(2)[1])
         rig = build_rig(sc, subject, rng)
