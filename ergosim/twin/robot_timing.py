@@ -74,11 +74,11 @@ def robot_only_runs(scenario: Scenario, subjects: int, seed: int = 0) -> list[Ro
         # the streams of run_subject: [calibration, r-only]
         rng = np.random.default_rng(np.random.SeedSequence([seed, index]).spawn(2)[1])
         rig = build_rig(sc, subject, rng)
+        allocator = make_allocator(sc, "r-only", rig, None)
         session = Session(cfg=sc.protocol, mode="r-only", subject_index=index, worker=rig.worker,
-                          plant=rig.plant, robot=rig.robot, allocator=make_allocator(sc, "r-only", rig, None),
-                          rng=rng)
+                          plant=rig.plant, robot=rig.robots, allocator=allocator, rng=rng)
         run = session.run(1)
-        results = iter(rig.robot.results if rig.robot is not None else [])
+        results = iter([r for track in rig.robots.values() for r in track.results])
         human = session.allocator.human
         actions = tuple(ActionTiming(a.action, a.agent, a.status, a.t_end - a.t_start,
                                      None if a.agent in (human, "") else next(results, None))
