@@ -13,6 +13,7 @@ import os
 import sys
 from pathlib import Path
 
+from ergosim.commands.video_options import add_video_arguments, check_can_render, video_line, video_request
 from ergosim.errors import ConfigError, ErgosimError
 from ergosim.overrides import parse_assignments
 
@@ -49,6 +50,7 @@ def add_parser(sub) -> argparse.ArgumentParser:
                    help="override a protocol field (e.g. takt=40) or a workcell field by its dotted path "
                         "or alias (e.g. scene.shelf_height=1.6, scene.parts.L.xy=0.2,0.8)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_video_arguments(p, mode_names())
     return p
 
 
@@ -104,14 +106,17 @@ def run(args) -> int:
     out = Path(args.out) if args.out else Path("results") / scenario.name
     if out.exists() and not out.is_dir():  # before a viewer is spawned; run_scenario checks the rest
         raise ConfigError(f"{out} exists and is not a directory", where="--out")
+    video = video_request(args, scenario)
     _precheck(scenario)
+    if video is not None:
+        check_can_render()
     recorder = open_recording(rrd=args.rrd, spawn=args.spawn, connect=args.connect,
                               recording_name=f"ergosim {args.scenario} seed {args.seed}")
     committed = False
     try:
         result = run_scenario(scenario, seed=args.seed, out=out, jobs=args.jobs or os.cpu_count(),
                               progress=not args.quiet, recorder=recorder,
-                              record_subject=args.rrd_subject or 0, record_mode=args.rrd_mode)
+                              record_subject=args.rrd_subject or 0, record_mode=args.rrd_mode, video=video)
         committed = True
     finally:
         try:
@@ -126,6 +131,8 @@ def run(args) -> int:
           "kwear_state_*.json, *.png)")
     if args.rrd:
         print(f"recording: {Path(args.rrd).resolve()}  (open it with: rerun {args.rrd})")
+    if result.video is not None:
+        print(video_line(result.video, video))
     print(f"wall time {result.wall:.1f} s", file=sys.stderr)
     if result.status == "abandoned":
         n = result.summary.get("repetitions_abandoned", 0)

@@ -109,18 +109,20 @@ def make_allocator(scenario: Scenario, mode_name: str, rig: Rig, calibration) ->
 
 
 def run_subject(scenario: Scenario, index: int, seed: int, modes: tuple[str, ...],
-                record_mode: str | None = None) -> SubjectResult:
+                record_mode: str | tuple[str, ...] | None = None) -> SubjectResult:
     """Calibrate subject ``index`` of ``seed``'s population, then run each mode from zero wear.
 
-    ``record_mode``: keep body poses per tick for that mode's run (for the rerun recording)."""
+    ``record_mode``: keep body poses per tick for that mode's run, or those modes' runs (for the rerun
+    recording and the video); copying the poses changes nothing in the simulation."""
     cfg = scenario.protocol
+    recorded = {record_mode} if isinstance(record_mode, str) else set(record_mode or ())
     subject = make_subjects(index + 1, seed)[index]
     seqs = np.random.SeedSequence([seed, index]).spawn(1 + len(modes))
     calibration, traces = _calibrate(scenario, subject, np.random.default_rng(seqs[0]))
     runs: dict[str, SubjectRun] = {}
     for mode, seq in zip(modes, seqs[1:], strict=True):
         rng = np.random.default_rng(seq)
-        rig = build_rig(scenario, subject, rng, record_bodies=mode == record_mode, alphas=calibration.alphas)
+        rig = build_rig(scenario, subject, rng, record_bodies=mode in recorded, alphas=calibration.alphas)
         allocator = make_allocator(scenario, mode, rig, calibration)
         session = Session(cfg=cfg, mode=mode, subject_index=index, worker=rig.worker, plant=rig.plant,
                           robot=rig.robot, allocator=allocator, rng=rng)

@@ -11,6 +11,7 @@ run is interrupted (Ctrl-C or SIGTERM) or fails, everything finished so far is w
 from __future__ import annotations
 
 import concurrent.futures as cf
+import dataclasses
 import multiprocessing
 import os
 import time
@@ -41,12 +42,14 @@ class ScenarioResult:
     ``status``: ``complete`` or ``abandoned`` (see :mod:`ergosim.twin.run_folder`)."""
 
     def __init__(self, results: list[SubjectResult], summary: dict, out: Path, wall: float,
-                 status: str = "complete") -> None:
+                 status: str = "complete", video=None) -> None:
         self.results = results
         self.summary = summary
         self.out = out
         self.wall = wall
         self.status = status
+        self.video = video
+        """:class:`~ergosim.video.VideoStats` of the video made, or None."""
 
 
 def _job(args) -> SubjectResult:
@@ -108,14 +111,17 @@ def _actions(results: list[SubjectResult]) -> list[str]:
 
 
 def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None = None, progress: bool = True,
-                 recorder=None, record_subject: int = 0, record_mode: str | None = None) -> ScenarioResult:
+                 recorder=None, record_subject: int = 0, record_mode: str | None = None,
+                 video=None) -> ScenarioResult:
     """Run ``scenario`` for its subjects and write summary.json, allocations.csv, failures.csv, ticks.csv,
     the KWear state files and PNGs into ``out``, which the run owns (run.json).
 
     ``recorder`` (an enabled :class:`~ergosim.viz.TwinRecorder`): subject ``record_subject``'s run in mode
     ``record_mode`` (default: the first mode) is logged to it (3-D workcell, joint angles, RULA, KWear,
-    decisions, failures) once the run is over. SIGINT and SIGTERM stop the run the same way: the finished
-    subjects are written, then :class:`~ergosim.twin.interrupt.Interrupted` propagates.
+    decisions, failures) once the run is over. ``video`` (a :class:`~ergosim.video.VideoRequest`): that
+    subject's run in that mode is rendered to an MP4 after every result is written. SIGINT and SIGTERM stop
+    the run the same way: the finished subjects are written, then
+    :class:`~ergosim.twin.interrupt.Interrupted` propagates.
     """
     name, cfg = scenario.name, scenario.protocol
     out = Path(out)
@@ -124,7 +130,11 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
     folder = RunFolder(out, scenario=name, seed=seed)
     folder.claim({k: v for k, v in vars(cfg).items()})
     jobs = max(1, min(jobs or os.cpu_count() or 1, cfg.subjects))
-    args = [(scenario, i, seed, tuple(cfg.modes), record_mode if i == record_subject else None)
+    kept = {(record_subject, record_mode)} if record_mode is not None else set()
+    if video is not None:
+        video = dataclasses.replace(video, mode=video.mode or cfg.modes[0])
+        kept.add((video.subject, video.mode))
+    args = [(scenario, i, seed, tuple(cfg.modes), tuple(sorted(m for s, m in kept if s == i)))
             for i in range(cfg.subjects)]
     bar = Progress(cfg.subjects, f"{name}: subjects", enabled=progress)
     results: list[SubjectResult] = []
@@ -183,4 +193,10 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
         subject = make_subjects(record_subject + 1, seed)[record_subject]
         cell = subject_cell(scenario, subject)
         record_run(recorder, cell.model, chosen[0].runs[record_mode], cfg.v_th, cell.parts)
-    return ScenarioResult(results, summary, out, time.monotonic() - start, status)
+    filmed = None
+    chosen = [r for r in results if video is not None and r.subject == video.subject]
+    if chosen:
+        from ergosim.video.film import film_subject  # noqa: PLC0415 - only videos need the renderer
+
+        filmed = film_subject(scenario, seed, chosen[0], video, progress=progress)
+    return ScenarioResult(results, summary, out, time.monotonic() - start, status, filmed)
