@@ -13,6 +13,7 @@ import os
 import sys
 from pathlib import Path
 
+from ergosim.commands.plot import add_plot_subject_argument, parse_subjects
 from ergosim.commands.video_options import add_video_arguments, check_can_render, video_line, video_request
 from ergosim.errors import ConfigError, ErgosimError
 from ergosim.overrides import parse_assignments
@@ -50,6 +51,7 @@ def add_parser(sub) -> argparse.ArgumentParser:
                    help="override a protocol field (e.g. takt=40) or a workcell field by its dotted path "
                         "or alias (e.g. scene.shelf_height=1.6, scene.parts.L.xy=0.2,0.8)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_plot_subject_argument(p)
     add_video_arguments(p, mode_names())
     return p
 
@@ -107,6 +109,10 @@ def run(args) -> int:
     if out.exists() and not out.is_dir():  # before a viewer is spawned; run_scenario checks the rest
         raise ConfigError(f"{out} exists and is not a directory", where="--out")
     video = video_request(args, scenario)
+    plot_subjects = parse_subjects(args.plot_subject)
+    if plot_subjects and max(plot_subjects) >= cfg.subjects:
+        raise ConfigError(f"must be subject indices in 0..{cfg.subjects - 1}, got {args.plot_subject}",
+                          where="--plot-subject")
     _precheck(scenario)
     if video is not None:
         check_can_render()
@@ -116,7 +122,8 @@ def run(args) -> int:
     try:
         result = run_scenario(scenario, seed=args.seed, out=out, jobs=args.jobs or os.cpu_count(),
                               progress=not args.quiet, recorder=recorder,
-                              record_subject=args.rrd_subject or 0, record_mode=args.rrd_mode, video=video)
+                              record_subject=args.rrd_subject or 0, record_mode=args.rrd_mode, video=video,
+                              plot_subjects=plot_subjects)
         committed = True
     finally:
         try:

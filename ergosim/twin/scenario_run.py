@@ -23,7 +23,15 @@ from ergosim.twin.kwear_state import state_document
 from ergosim.twin.plots import write_plots
 from ergosim.twin.progress import Progress
 from ergosim.twin.recording import record_run
-from ergosim.twin.report import summarise, write_allocations, write_failures, write_summary, write_ticks
+from ergosim.twin.report import (
+    summarise,
+    write_action_traces,
+    write_allocations,
+    write_failures,
+    write_subjects,
+    write_summary,
+    write_ticks,
+)
 from ergosim.twin.run_folder import RunFolder
 from ergosim.twin.runner import SubjectResult, run_subject, subject_cell
 from ergosim.twin.scenario import ScenarioConfig
@@ -58,7 +66,7 @@ def _job(args) -> SubjectResult:
 
 
 def _write(out: Path, name: str, seed: int, cfg: ScenarioConfig, results: list[SubjectResult],
-           complete: bool, final: bool, status: str = "running") -> dict:
+           complete: bool, final: bool, status: str = "running", plot_subjects=None) -> dict:
     results = sorted(results, key=lambda r: r.subject)
     modes = {m: [r.runs[m] for r in results if m in r.runs] for m in cfg.modes}
     extra = {
@@ -84,7 +92,11 @@ def _write(out: Path, name: str, seed: int, cfg: ScenarioConfig, results: list[S
     if final:
         write_ticks(out / "ticks.csv", [run for r in results for run in r.runs.values()])
         _write_states(out, name, seed, cfg, results)
-        write_plots(out, name, results, cfg)
+        write_subjects(out / "subjects.csv", [(r.name, r.runs[m]) for m in cfg.modes for r in results
+                                              if m in r.runs])
+        write_action_traces(out / "kwear_actions.csv", [(r.subject, a, t, v) for r in results
+                                                        for a, (t, v) in sorted(r.traces.items())])
+        write_plots(out, subjects=plot_subjects)
     write_summary(out / "summary.json", summary)
     return summary
 
@@ -112,14 +124,15 @@ def _actions(results: list[SubjectResult]) -> list[str]:
 
 def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None = None, progress: bool = True,
                  recorder=None, record_subject: int = 0, record_mode: str | None = None,
-                 video=None) -> ScenarioResult:
+                 video=None, plot_subjects: tuple[int, ...] | None = None) -> ScenarioResult:
     """Run ``scenario`` for its subjects and write summary.json, allocations.csv, failures.csv, ticks.csv,
     the KWear state files and PNGs into ``out``, which the run owns (run.json).
 
     ``recorder`` (an enabled :class:`~ergosim.viz.TwinRecorder`): subject ``record_subject``'s run in mode
     ``record_mode`` (default: the first mode) is logged to it (3-D workcell, joint angles, RULA, KWear,
     decisions, failures) once the run is over. ``video`` (a :class:`~ergosim.video.VideoRequest`): that
-    subject's run in that mode is rendered to an MP4 after every result is written. SIGINT and SIGTERM stop
+    subject's run in that mode is rendered to an MP4 after every result is written. ``plot_subjects``: the
+    subjects the timelines and the per-action figure show (default: every subject). SIGINT and SIGTERM stop
     the run the same way: the finished subjects are written, then
     :class:`~ergosim.twin.interrupt.Interrupted` propagates.
     """
@@ -176,7 +189,7 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
         with interrupt_on_signals():  # a second Ctrl-C while writing still leaves whole files
             if results:
                 summary = _write(out, name, seed, cfg, results, complete=status == "complete", final=True,
-                                 status=status)
+                                 status=status, plot_subjects=plot_subjects)
                 if summary["status"] == "abandoned":
                     status = "abandoned"
                     reason = f"{summary['repetitions_abandoned']} repetition(s) abandoned"
