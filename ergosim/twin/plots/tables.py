@@ -16,6 +16,7 @@ import numpy as np
 
 from ergosim.errors import ConfigError
 from ergosim.posture import KWEAR_JOINTS
+from ergosim.twin.records import Allocation
 
 __all__ = ["RunInfo", "TickTable", "Attempt", "SubjectRow", "read_run_info", "read_ticks", "read_attempts",
            "read_subjects", "read_action_traces"]
@@ -44,24 +45,14 @@ class TickTable:
     kwear: np.ndarray
 
 
-@dataclasses.dataclass(frozen=True)
-class Attempt:
-    """A row of ``allocations.csv`` (times [s])."""
+_ATTEMPT_FIELDS = ("subject", "mode", "repetition", "order", "action", "agent", "t_start", "t_end", "status",
+                   "allocatable")
 
-    subject: int
-    mode: str
-    repetition: int
-    order: int
-    action: str
-    agent: str
-    t_start: float
-    t_end: float
-    status: str
-    allocatable: bool
-
-    @property
-    def done(self) -> bool:
-        return self.status == "done"
+Attempt = dataclasses.make_dataclass(
+    "Attempt", [(f.name, f.type) for f in dataclasses.fields(Allocation) if f.name in _ATTEMPT_FIELDS],
+    frozen=True, namespace={"done": property(lambda self: self.status == "done"), "__module__": __name__})
+Attempt.__doc__ = """A row of ``allocations.csv`` read back: the columns the figures use, named and typed as
+in :class:`~ergosim.twin.records.Allocation` (times [s]); ``done`` as there."""
 
 
 @dataclasses.dataclass(frozen=True)
