@@ -205,7 +205,9 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
     if record_mode is not None and chosen:
         subject = make_subjects(record_subject + 1, seed)[record_subject]
         cell = subject_cell(scenario, subject)
-        record_run(recorder, cell.model, chosen[0].runs[record_mode], cfg.v_th, cell.parts)
+        view = cell.config.view()
+        record_run(recorder, cell.model, chosen[0].runs[record_mode], cfg.v_th, cell.parts,
+                   view=(view.azimuth, view.elevation))
     filmed = None
     chosen = [r for r in results if video is not None and r.subject == video.subject]
     if chosen:

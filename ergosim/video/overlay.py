@@ -48,11 +48,13 @@ def _font(size: int, bold: bool = False) -> ImageFont.FreeTypeFont:
 
 class Overlay:
     """Draws :class:`FrameInfo` onto (height, width, 3) uint8 frames. ``header``: the first line (scenario,
-    subject, mode); ``speed``: the video's speed-up, shown when it is not 1."""
+    subject, mode); ``speed``: the video's speed-up, shown when it is not 1; ``text_scale``: the overlay's
+    size against the frame (1: 19 px time line at 540 px; larger for small frames, e.g. a GIF)."""
 
-    def __init__(self, width: int, height: int, *, header: str = "", speed: float = 1.0) -> None:
+    def __init__(self, width: int, height: int, *, header: str = "", speed: float = 1.0,
+                 text_scale: float = 1.0) -> None:
         self.width, self.height = width, height
-        s = height / 540
+        s = height / 540 * text_scale
         self.s = s
         self.header = header
         self.speed = speed

@@ -107,11 +107,11 @@ def action_texts(cell: Workcell) -> dict[str, str]:
 
 def write_run_video(cell: Workcell, run: SubjectRun, request: VideoRequest, *, header: str = "",
                     window: tuple[float, float] | None = None, progress: bool = False,
-                    quality: RenderQuality = RenderQuality()) -> VideoStats:
+                    quality: RenderQuality = RenderQuality(), text_scale: float = 1.0) -> VideoStats:
     """Render ``run`` (recorded with body poses) in ``cell`` (the workcell it ran in) to ``request.path``.
 
     ``window`` (start, end) [s of simulated time] overrides ``request.reps``. Frame k shows simulated time
-    start + k · speed / fps.
+    start + k · speed / fps. ``text_scale``: the overlay's size against the frame (see :class:`Overlay`).
     """
     if run.bodies is None:
         raise ConfigError("the run was not recorded with body poses (run_subject(record_mode=...))",
@@ -126,7 +126,8 @@ def write_run_video(cell: Workcell, run: SubjectRun, request: VideoRequest, *, h
     step = request.speed / request.fps
     n = max(1, int(math.floor((t1 - t0) / step + 1e-9)) + 1)
     track = PoseTrack(timeline.t, pos, quat)
-    overlay = Overlay(request.width, request.height, header=header, speed=request.speed)
+    overlay = Overlay(request.width, request.height, header=header, speed=request.speed,
+                      text_scale=text_scale)
     hold = EVENT_HOLD * request.speed
     bar = Progress(n, f"video {Path(request.path).name}: frames", enabled=progress)
     spent = np.zeros(3)
