@@ -37,11 +37,11 @@ def record_run(recorder: TwinRecorder, model, run: SubjectRun, v_th: float, part
         r = rows[sel]
         recorder.log_ticks(int(rep), r[:, 1], pos[sel], quat[sel], names, r[:, _ANGLES], r[:, _RULA],
                            r[:, _GRAND], run.ticks.kwear[sel])
+    _log_repetitions(recorder, run)  # first: at equal times the log keeps this order
     for d in run.decisions:
         recorder.log_decision(d.time, d.repetition, d.v_now, d.v_hat, d.costs, (d.action, d.agent), d.reason)
     for f in run.failures:  # failed attempts and abandoned repetitions, beside the decisions
         recorder.log_event(f.time, f.repetition, f"{f.status}: {f.message}", level="WARN")
-    _log_repetitions(recorder, run)
 
 
 def _log_repetitions(recorder: TwinRecorder, run: SubjectRun) -> None:

@@ -77,8 +77,10 @@ def _kwear_panel(ax, subject: int, tt: TickTable, attempts: Sequence[Attempt], v
     above = mtransforms.blended_transform_factory(ax.transData, ax.transAxes)
     for rep, t in starts.items():
         ax.axvline(t, color="0.3", lw=0.8, ls=":", gid=f"rep/{subject}/{rep}")
-        ax.text(t, 1.01, f"rep {rep}" if rep == min(starts) else str(rep), transform=above, fontsize=7,
-                va="bottom", ha="left", color="0.3")
+        ax.text(t, 1.01, str(rep), transform=above, fontsize=7, va="bottom", ha="left", color="0.3")
+    if starts:
+        ax.text(-0.005, 1.01, "repetition", transform=ax.transAxes, fontsize=7, va="bottom", ha="right",
+                color="0.3")
     ax.set_ylim(0, 1.02)
     ax.set_ylabel(f"subject {subject}\nKWear V", fontsize=8)
     ax.grid(alpha=0.25)
