@@ -37,17 +37,20 @@ def recorded(tmp_path_factory):
     return out / "out", rrd
 
 
-def _blueprint(rrd: Path) -> dict[str, list]:
-    """Component -> values in the blueprint the recording ends with (the one the viewer shows)."""
+def _blueprints(rrd: Path) -> list[dict[str, list]]:
+    """Per blueprint in the recording (the one sent at open and the one with the 3-D eye, sent once the
+    scene is known; their order in the file is not fixed): component -> values."""
     reader = RrdReader(rrd)
-    store = reader.blueprints()[-1]
-    found: dict[str, list] = defaultdict(list)
-    for chunk in reader.stream(store=store).to_chunks():
-        batch = chunk.to_record_batch()
-        for name in batch.schema.names:
-            if ":" in name:
-                found[name].extend(batch.column(batch.schema.names.index(name)).to_pylist())
-    return found
+    out = []
+    for store in reader.blueprints():
+        found: dict[str, list] = defaultdict(list)
+        for chunk in reader.stream(store=store).to_chunks():
+            batch = chunk.to_record_batch()
+            for name in batch.schema.names:
+                if ":" in name:
+                    found[name].extend(batch.column(batch.schema.names.index(name)).to_pylist())
+        out.append(found)
+    return out
 
 
 def test_v_th_is_one_line_when_every_joint_shares_it(recorded):
@@ -78,9 +81,13 @@ def test_the_text_log_holds_every_decision_failure_and_repetition(recorded):
 
 def test_legends_sit_in_bands_the_data_never_reach(recorded):
     out, rrd = recorded
-    bp = _blueprint(rrd)
-    corners = [c for c in bp["PlotLegend:corner"] if c is not None]
-    assert corners and set(np.ravel(corners)) == {1}  # LeftTop, over the empty band at the top of each plot
+    bps = _blueprints(rrd)
+    assert len(bps) == 2
+    for bp in bps:
+        corners = [c for c in bp["PlotLegend:corner"] if c is not None]
+        assert corners and set(np.ravel(corners)) == {1}  # LeftTop, over the empty band at each plot's top
+        visible = np.ravel([v for v in bp["PlotLegend:visible"] if v is not None]).tolist()
+        assert sorted(visible) == [False] * 2 + [True] * 4  # V̂ and costs (points, a series per candidate)
     with (out / "ticks.csv").open() as f:
         rows = list(csv.DictReader(f))
 
@@ -90,8 +97,6 @@ def test_legends_sit_in_bands_the_data_never_reach(recorded):
     assert top([c for c in rows[0] if c.startswith("rula_")]) <= 7 < RULA_RANGE[1] - 4
     assert top(ARM_ANGLES) <= 180 < ARM_RANGE[1] - 200
     assert top([n for n in ANGLE_NAMES if n not in ARM_ANGLES]) <= 90 < TRUNK_RANGE[1] - 100
-    visible = np.ravel([v for v in bp["PlotLegend:visible"] if v is not None]).tolist()
-    assert sorted(visible) == [False] * 2 + [True] * 4  # V̂ and costs (points, one series per candidate) hide
 
 
 @pytest.mark.parametrize("name", scenario_names())
@@ -123,9 +128,8 @@ def test_the_recordings_3d_view_starts_at_the_framing_eye(recorded):
     cell = subject_cell(load_scenario("multi-subject", {"scene.l_xy": "0.14,0.88"}), make_subjects(1, 0)[0])
     view = cell.config.view()
     eye = frame_scene(cell.model, view.azimuth, view.elevation)
-    bp = _blueprint(rrd)
-    positions = [p for p in bp["EyeControls3D:position"] if p is not None]
-    assert positions and np.allclose(np.ravel(positions[-1]), eye.position, atol=1e-4)
+    positions = [p for bp in _blueprints(rrd) for p in bp["EyeControls3D:position"] if p is not None]
+    assert len(positions) == 1 and np.allclose(np.ravel(positions[0]), eye.position, atol=1e-4)
 
 
 def test_capsules_are_drawn_solid(tmp_path):
