@@ -4,6 +4,11 @@ from __future__ import annotations
 
 import copy
 import json
+import os
+import signal
+import subprocess
+import sys
+import time
 from pathlib import Path
 
 import matplotlib.image
@@ -225,3 +230,24 @@ def test_render_writes_a_still_from_a_named_view(tmp_path, capsys):
     assert main(["render", "gearbox", "--out", str(out), "--view", "side"]) == 2
     assert "--view: unknown view 'side'; the workcell 'gearbox' has: overview, top" in capsys.readouterr().err
     assert main(["render", "gearbox", "--out", str(tmp_path / "cell.jpg")]) == 2
+
+
+def test_sigterm_while_filming_keeps_the_results_and_leaves_no_partial_video(tmp_path):
+    out, video = tmp_path / "out", tmp_path / "run.mp4"
+    env = {**os.environ, "MUJOCO_GL": "egl"}
+    cmd = [sys.executable, "-m", "ergosim.cli", "run", "kwear-validation", "--reps", "1", "--mode", "hrc",
+           "--jobs", "1", "--quiet", "--out", str(out), "--video", str(video), "--video-speed", "0.25"]
+    proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 300
+    while time.monotonic() < deadline:  # the results are written before the first frame
+        manifest = out / "run.json"
+        if manifest.is_file() and json.loads(manifest.read_text())["status"] == "complete":
+            break
+        time.sleep(0.2)
+    time.sleep(3.0)  # well inside the video: 38 s at x0.25 is 4560 frames
+    proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 143, err
+    assert "interrupted by SIGTERM" in err and "Traceback" not in err
+    assert json.loads((out / "summary.json").read_text())["complete"] is True
+    assert not [p for p in tmp_path.iterdir() if p.name not in ("out",)]  # no run.mp4, no .tmp.mp4

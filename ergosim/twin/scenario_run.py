@@ -213,5 +213,6 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
     if chosen:
         from ergosim.video.film import film_subject  # noqa: PLC0415 - only videos need the renderer
 
-        filmed = film_subject(scenario, seed, chosen[0], video, progress=progress)
+        with interrupt_on_signals():  # SIGTERM too leaves no half-written video
+            filmed = film_subject(scenario, seed, chosen[0], video, progress=progress)
     return ScenarioResult(results, summary, out, time.monotonic() - start, status, filmed)
