@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import copy
+import importlib
 import json
 import os
 import signal
@@ -251,3 +252,11 @@ def test_sigterm_while_filming_keeps_the_results_and_leaves_no_partial_video(tmp
     assert "interrupted by SIGTERM" in err and "Traceback" not in err
     assert json.loads((out / "summary.json").read_text())["complete"] is True
     assert not [p for p in tmp_path.iterdir() if p.name not in ("out",)]  # no run.mp4, no .tmp.mp4
+
+
+@pytest.mark.parametrize("package", ["ergosim.video", "ergosim.twin.plots"])
+def test_every_public_name_exists(package):
+    module = importlib.import_module(package)
+    assert module.__all__
+    for name in module.__all__:
+        assert getattr(module, name) is not None, name
