@@ -13,6 +13,8 @@ import os
 import sys
 from pathlib import Path
 
+from ergosim.commands.plot import add_plot_subject_argument, parse_subjects
+from ergosim.commands.video_options import add_video_arguments, check_can_render, video_line, video_request
 from ergosim.errors import ConfigError, ErgosimError
 from ergosim.overrides import parse_assignments
 
@@ -51,6 +53,8 @@ def add_parser(sub) -> argparse.ArgumentParser:
                         "(task.agents.robot.cost=3), or the task or workcell itself (workcell=FILE); "
                         "docs/workcell_format.md")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_plot_subject_argument(p)
+    add_video_arguments(p, mode_names())
     return p
 
 
@@ -105,14 +109,22 @@ def run(args) -> int:
     out = Path(args.out) if args.out else Path("results") / scenario.name
     if out.exists() and not out.is_dir():  # before a viewer is spawned; run_scenario checks the rest
         raise ConfigError(f"{out} exists and is not a directory", where="--out")
+    video = video_request(args, scenario)
+    plot_subjects = parse_subjects(args.plot_subject)
+    if plot_subjects and max(plot_subjects) >= cfg.subjects:
+        raise ConfigError(f"must be subject indices in 0..{cfg.subjects - 1}, got {args.plot_subject}",
+                          where="--plot-subject")
     _precheck(scenario)
+    if video is not None:
+        check_can_render()
     recorder = open_recording(rrd=args.rrd, spawn=args.spawn, connect=args.connect,
                               recording_name=f"ergosim {args.scenario} seed {args.seed}")
     committed = False
     try:
         result = run_scenario(scenario, seed=args.seed, out=out, jobs=args.jobs or os.cpu_count(),
                               progress=not args.quiet, recorder=recorder,
-                              record_subject=args.rrd_subject or 0, record_mode=args.rrd_mode)
+                              record_subject=args.rrd_subject or 0, record_mode=args.rrd_mode, video=video,
+                              plot_subjects=plot_subjects)
         committed = True
     finally:
         try:
@@ -124,9 +136,11 @@ def run(args) -> int:
             raise err from None
     print(summary_text(result.summary, cfg))
     print(f"\nresults: {out.resolve()} (run.json, summary.json, allocations.csv, failures.csv, ticks.csv, "
-          "kwear_state_*.json, *.png)")
+          "subjects.csv, kwear_actions.csv, kwear_state_*.json, *.png)")
     if args.rrd:
         print(f"recording: {Path(args.rrd).resolve()}  (open it with: rerun {args.rrd})")
+    if result.video is not None:
+        print(video_line(result.video, video))
     print(f"wall time {result.wall:.1f} s", file=sys.stderr)
     if result.status == "abandoned":
         n = result.summary.get("repetitions_abandoned", 0)

@@ -14,6 +14,7 @@ from typing import Literal
 
 import numpy as np
 
+from ergosim.errors import ConfigError
 from ergosim.scenes.action_kinds import ACTION_KINDS
 
 __all__ = ["Surface", "Table", "Shelf", "Box", "Slot", "Part", "Target", "Worker", "Robot", "Action", "View",
@@ -318,9 +319,15 @@ class CellSpec:
         return max(under, key=lambda s: s.height) if under else None
 
     def view(self, name: str | None = None) -> View:
+        """The camera view ``name`` (the first one for None); an unknown name is a :class:`ConfigError`
+        that lists the cell's views."""
         if name is None:
             return self.views[0]
-        return next(v for v in self.views if v.name == name)
+        for v in self.views:
+            if v.name == name:
+                return v
+        raise ConfigError(f"unknown view {name!r}; the workcell {self.name!r} has: "
+                          f"{', '.join(v.name for v in self.views)}", where=f"{self.source}: [views]")
 
 
 def quat_axis_to(axis_from: str, axis: tuple[float, float, float]) -> np.ndarray:

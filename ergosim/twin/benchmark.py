@@ -21,7 +21,7 @@ from ergosim.twin.scenariofile import load_scenario
 from ergosim.twin.session import Session
 from ergosim.viz import open_recording
 
-__all__ = ["bench_repetition", "bench_sim", "bench_full"]
+__all__ = ["bench_repetition", "bench_sim", "bench_full", "bench_video"]
 
 
 def bench_repetition(scenario: str, mode: str = "hrc", seed: int = 0,
@@ -97,3 +97,58 @@ def bench_full(scenario: str, jobs: int = 2, seed: int = 0) -> dict:
     modes = res.summary["modes"]
     return {"scenario": scenario, "jobs": jobs, "wall_s": wall,
             "repetitions": sum(m["repetitions_completed"] for m in modes.values())}
+
+
+def bench_video(scenario: str = "multi-subject", seed: int = 0, repeats: int = 3, seconds: float = 10.0,
+                size: tuple[int, int] = (960, 540), speed: float = 1.0) -> dict:
+    """Cost of ``--video``, measured on one recorded repetition: ``seconds`` of simulated time filmed at
+    ``speed`` (30 fps), ``repeats`` times (medians). Returns ms per frame for each stage (scene render,
+    overlay, encoder), the wall time per second of simulated time, and the same repetition's simulation
+    wall time with and without body poses kept (what ``--video`` adds to the run itself)."""
+    from ergosim.video import VideoRequest, write_run_video  # noqa: PLC0415 - only this benchmark renders
+
+    sc = load_scenario(scenario).with_overrides({"repetitions": "1", "modes": "hrc"})
+    cfg = sc.protocol
+    subject = scenario_subject(sc, 0, seed)
+    calibration, _, _ = _calibrate(sc, subject, np.random.default_rng([seed, 1]))
+    sims = {"off": [], "on": []}
+    run = rig = None
+    for _ in range(repeats):
+        for key in ("off", "on"):
+            rng = np.random.default_rng([seed, 2])
+            rig = build_rig(sc, subject, rng, record_bodies=key == "on", alphas=calibration.alphas)
+            session = Session(cfg=cfg, mode="hrc", subject_index=0, worker=rig.worker, plant=rig.plant,
+                              robot=rig.robots, allocator=make_allocator(sc, "hrc", rig, calibration),
+                              rng=rng)
+            t0 = time.perf_counter()
+            r = session.run(1)
+            sims[key].append(time.perf_counter() - t0)
+            if key == "on":
+                run = r
+    stats = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for k in range(repeats):
+            request = VideoRequest(Path(tmp) / f"bench{k}.mp4", width=size[0], height=size[1], speed=speed)
+            stats.append(write_run_video(rig.cell, run, request, window=(0.0, seconds)))
+    frames = stats[0].frames
+
+    def med(f) -> float:
+        return statistics.median(f(x) for x in stats)
+
+    return {
+        "scenario": scenario, "repeats": repeats, "size": list(size), "speed": speed, "frames": frames,
+        "sim_seconds": seconds,
+        "render_ms_per_frame": 1000 * med(lambda x: x.render_s / x.frames),
+        "overlay_ms_per_frame": 1000 * med(lambda x: x.overlay_s / x.frames),
+        "encode_ms_per_frame": 1000 * med(lambda x: x.encode_s / x.frames),
+        "ms_per_frame": 1000 * med(lambda x: x.wall_s / x.frames),
+        "wall_per_sim_second": med(lambda x: x.wall_s / seconds),
+        "sim_wall_s": statistics.median(sims["off"]),
+        "sim_wall_s_with_poses": statistics.median(sims["on"]),
+        "poses_cost": statistics.median(sims["on"]) / statistics.median(sims["off"]) - 1.0,
+        "sim_time_s": rig.plant.time,
+        # measured side by side, so machine load cancels: filming one simulated second at x1 against
+        # simulating it
+        "video_over_simulation": med(lambda x: x.wall_s / seconds) / (statistics.median(sims["off"])
+                                                                         / rig.plant.time),
+    }

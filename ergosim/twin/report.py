@@ -16,6 +16,7 @@ import numpy as np
 from scipy import stats
 
 from ergosim.atomic import atomic_open, write_json
+from ergosim.posture import KWEAR_JOINTS
 from ergosim.twin.modes import mode_or_default
 from ergosim.twin.records import TICK_COLUMNS, Allocation, Failure, SubjectRun
 
@@ -28,8 +29,12 @@ __all__ = [
     "write_failures",
     "write_ticks",
     "write_summary",
+    "write_subjects",
+    "write_action_traces",
     "ALLOCATION_COLUMNS",
     "FAILURE_COLUMNS",
+    "SUBJECT_COLUMNS",
+    "ACTION_TRACE_COLUMNS",
 ]
 
 ALLOCATION_COLUMNS = (
@@ -40,6 +45,19 @@ ALLOCATION_COLUMNS = (
 
 FAILURE_COLUMNS = ("time", "subject", "mode", "repetition", "action", "agent", "status", "message")
 """Columns of ``failures.csv``: one row per failed attempt or abandoned repetition."""
+
+SUBJECT_COLUMNS = (
+    "subject", "worker", "mode", "repetitions_completed", "repetitions_abandoned", "takt_overruns",
+    "kwear_integral", "kwear_integral_run", "kwear_mean", "time_above_vth", "duration", "actions_completed",
+    "robot_actions", "worker_agent",
+)
+"""Columns of ``subjects.csv``: one row per subject and mode; the per-subject figures of ``summary.json``
+(``kwear_integral`` [s] over repetitions × takt, ``kwear_integral_run`` [s] over the whole run,
+``kwear_mean``, ``time_above_vth`` [s], ``duration`` [s]), floats written exactly (``repr``)."""
+
+ACTION_TRACE_COLUMNS = ("subject", "action", "t") + tuple(f"kwear_{j}" for j in KWEAR_JOINTS)
+"""Columns of ``kwear_actions.csv``: KWear per joint while the worker performs each action once from zero wear
+(the first calibration execution), ``t`` [s] from the action's start (paper §7.1, the KWear figure)."""
 
 
 def _finite(x: float) -> float | None:
@@ -220,3 +238,29 @@ def write_ticks(path: Path, runs: Sequence[SubjectRun]) -> None:
             np.savetxt(buf, rows, fmt="%.9g", delimiter=",")
             prefix = f"{run.subject},{run.mode},"
             f.write("".join(prefix + line + "\n" for line in buf.getvalue().splitlines()))
+
+
+def write_subjects(path: Path, runs: Sequence[tuple[str, SubjectRun]]) -> None:
+    """subjects.csv: :data:`SUBJECT_COLUMNS` for each (worker name, run), in the order given."""
+    with atomic_open(path, "w") as f:
+        writer = csv.writer(f, lineterminator="\n")
+        writer.writerow(SUBJECT_COLUMNS)
+        for worker, r in runs:
+            done = [a for a in r.allocations if a.done]
+            writer.writerow([
+                r.subject, worker, r.mode, r.repetitions_completed,
+                sum(o.outcome == "abandoned" for o in r.outcomes), r.takt_overruns,
+                repr(r.kwear_integral), repr(r.kwear_integral_run), repr(r.kwear_mean),
+                repr(r.time_above_threshold), repr(r.duration), len(done),
+                sum(r.by_robot(a.agent) for a in done), r.human,
+            ])
+
+
+def write_action_traces(path: Path, traces: Sequence[tuple[int, str, np.ndarray, np.ndarray]]) -> None:
+    """kwear_actions.csv: :data:`ACTION_TRACE_COLUMNS` for each (subject, action, t (n,) [s], V (n, 5))."""
+    with atomic_open(path, "w") as f:
+        f.write(",".join(ACTION_TRACE_COLUMNS) + "\n")
+        for subject, action, t, v in traces:
+            buf = io.StringIO()
+            np.savetxt(buf, np.column_stack([t, v]), fmt="%.9g", delimiter=",")
+            f.write("".join(f"{subject},{action}," + line + "\n" for line in buf.getvalue().splitlines()))

@@ -158,18 +158,20 @@ def subject_session(scenario: Scenario, index: int, seed: int, mode: str, *, cal
 
 
 def run_subject(scenario: Scenario, index: int, seed: int, modes: tuple[str, ...],
-                record_mode: str | None = None) -> SubjectResult:
+                record_mode: str | tuple[str, ...] | None = None) -> SubjectResult:
     """Calibrate subject ``index`` of ``seed``'s population, then run each mode from zero wear.
 
-    ``record_mode``: keep body poses per tick for that mode's run (for the rerun recording)."""
+    ``record_mode``: keep body poses per tick for that mode's run, or those modes' runs (for the rerun
+    recording and the video); copying the poses changes nothing in the simulation."""
     cfg = scenario.protocol
+    recorded = {record_mode} if isinstance(record_mode, str) else set(record_mode or ())
     subject = scenario_subject(scenario, index, seed)
     seqs = np.random.SeedSequence([seed, index]).spawn(1 + len(modes))
     calibration, traces, mtm = _calibrate(scenario, subject, np.random.default_rng(seqs[0]))
     runs: dict[str, SubjectRun] = {}
     for mode, seq in zip(modes, seqs[1:], strict=True):
         session = _session(scenario, index, subject, mode, np.random.default_rng(seq), calibration,
-                           record_bodies=mode == record_mode)
+                           record_bodies=mode in recorded)
         runs[mode] = session.run(cfg.repetitions)
         runs[mode].calibration_eta = calibration.eta
     return SubjectResult(

@@ -11,6 +11,7 @@ run is interrupted (Ctrl-C or SIGTERM) or fails, everything finished so far is w
 from __future__ import annotations
 
 import concurrent.futures as cf
+import dataclasses
 import multiprocessing
 import os
 import time
@@ -24,7 +25,15 @@ from ergosim.twin.kwear_state import state_document
 from ergosim.twin.plots import write_plots
 from ergosim.twin.progress import Progress
 from ergosim.twin.recording import record_run
-from ergosim.twin.report import summarise, write_allocations, write_failures, write_summary, write_ticks
+from ergosim.twin.report import (
+    summarise,
+    write_action_traces,
+    write_allocations,
+    write_failures,
+    write_subjects,
+    write_summary,
+    write_ticks,
+)
 from ergosim.twin.run_folder import RunFolder
 from ergosim.twin.runner import SubjectResult, run_subject, scenario_subject, subject_cell
 from ergosim.twin.scenario import ScenarioConfig
@@ -42,12 +51,14 @@ class ScenarioResult:
     ``status``: ``complete`` or ``abandoned`` (see :mod:`ergosim.twin.run_folder`)."""
 
     def __init__(self, results: list[SubjectResult], summary: dict, out: Path, wall: float,
-                 status: str = "complete") -> None:
+                 status: str = "complete", video=None) -> None:
         self.results = results
         self.summary = summary
         self.out = out
         self.wall = wall
         self.status = status
+        self.video = video
+        """:class:`~ergosim.video.VideoStats` of the video made, or None."""
 
 
 def _job(args) -> SubjectResult:
@@ -57,7 +68,7 @@ def _job(args) -> SubjectResult:
 
 
 def _write(out: Path, name: str, seed: int, cfg: ScenarioConfig, results: list[SubjectResult],
-           complete: bool, final: bool, status: str = "running") -> dict:
+           complete: bool, final: bool, status: str = "running", plot_subjects=None) -> dict:
     results = sorted(results, key=lambda r: r.subject)
     modes = {m: [r.runs[m] for r in results if m in r.runs] for m in cfg.modes}
     extra = {
@@ -79,7 +90,11 @@ def _write(out: Path, name: str, seed: int, cfg: ScenarioConfig, results: list[S
     if final:
         write_ticks(out / "ticks.csv", [run for r in results for run in r.runs.values()])
         _write_states(out, name, seed, cfg, results)
-        write_plots(out, name, results, cfg)
+        write_subjects(out / "subjects.csv", [(r.name, r.runs[m]) for m in cfg.modes for r in results
+                                              if m in r.runs])
+        write_action_traces(out / "kwear_actions.csv", [(r.subject, a, t, v) for r in results
+                                                        for a, (t, v) in sorted(r.traces.items())])
+        write_plots(out, subjects=plot_subjects)
     write_summary(out / "summary.json", summary)
     return summary
 
@@ -106,14 +121,18 @@ def _actions(results: list[SubjectResult]) -> list[str]:
 
 
 def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None = None, progress: bool = True,
-                 recorder=None, record_subject: int = 0, record_mode: str | None = None) -> ScenarioResult:
+                 recorder=None, record_subject: int = 0, record_mode: str | None = None,
+                 video=None, plot_subjects: tuple[int, ...] | None = None) -> ScenarioResult:
     """Run ``scenario`` for its subjects and write summary.json, allocations.csv, failures.csv, ticks.csv,
     the KWear state files and PNGs into ``out``, which the run owns (run.json).
 
     ``recorder`` (an enabled :class:`~ergosim.viz.TwinRecorder`): subject ``record_subject``'s run in mode
     ``record_mode`` (default: the first mode) is logged to it (3-D workcell, joint angles, RULA, KWear,
-    decisions, failures) once the run is over. SIGINT and SIGTERM stop the run the same way: the finished
-    subjects are written, then :class:`~ergosim.twin.interrupt.Interrupted` propagates.
+    decisions, failures) once the run is over. ``video`` (a :class:`~ergosim.video.VideoRequest`): that
+    subject's run in that mode is rendered to an MP4 after every result is written. ``plot_subjects``: the
+    subjects the timelines and the per-action figure show (default: every subject). SIGINT and SIGTERM stop
+    the run the same way: the finished subjects are written, then
+    :class:`~ergosim.twin.interrupt.Interrupted` propagates.
     """
     name, cfg = scenario.name, scenario.protocol
     out = Path(out)
@@ -122,7 +141,11 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
     folder = RunFolder(out, scenario=name, seed=seed)
     folder.claim({k: v for k, v in vars(cfg).items()})
     jobs = max(1, min(jobs or os.cpu_count() or 1, cfg.subjects))
-    args = [(scenario, i, seed, tuple(cfg.modes), record_mode if i == record_subject else None,
+    kept = {(record_subject, record_mode)} if record_mode is not None else set()
+    if video is not None:
+        video = dataclasses.replace(video, mode=video.mode or cfg.modes[0])
+        kept.add((video.subject, video.mode))
+    args = [(scenario, i, seed, tuple(cfg.modes), tuple(sorted(m for s, m in kept if s == i)),
              extension_modules()) for i in range(cfg.subjects)]
     bar = Progress(cfg.subjects, f"{name}: subjects", enabled=progress)
     results: list[SubjectResult] = []
@@ -164,7 +187,7 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
         with interrupt_on_signals():  # a second Ctrl-C while writing still leaves whole files
             if results:
                 summary = _write(out, name, seed, cfg, results, complete=status == "complete", final=True,
-                                 status=status)
+                                 status=status, plot_subjects=plot_subjects)
                 if summary["status"] == "abandoned":
                     status = "abandoned"
                     reason = f"{summary['repetitions_abandoned']} repetition(s) abandoned"
@@ -180,5 +203,14 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
     if record_mode is not None and chosen:
         subject = scenario_subject(scenario, record_subject, seed)
         cell = subject_cell(scenario, subject)
-        record_run(recorder, cell.model, chosen[0].runs[record_mode], cfg.v_th, cell.parts)
-    return ScenarioResult(results, summary, out, time.monotonic() - start, status)
+        view = cell.config.view()
+        record_run(recorder, cell.model, chosen[0].runs[record_mode], cfg.v_th, cell.parts,
+                   view=(view.azimuth, view.elevation))
+    filmed = None
+    chosen = [r for r in results if video is not None and r.subject == video.subject]
+    if chosen:
+        from ergosim.video.film import film_subject  # noqa: PLC0415 - only videos need the renderer
+
+        with interrupt_on_signals():  # SIGTERM too leaves no half-written video
+            filmed = film_subject(scenario, seed, chosen[0], video, progress=progress)
+    return ScenarioResult(results, summary, out, time.monotonic() - start, status, filmed)
