@@ -7,13 +7,11 @@ own scenario, task and workcell files (``own_product.py``) with one thing wrong.
 
 from __future__ import annotations
 
-import numpy as np
 import pytest
 from own_product import CELL, TASK, two_robots, write_product
 from test_hostile_inputs import _one_line_error as one_line_error
 
 from ergosim.cli import main
-from ergosim.scenes import build_scene
 
 MS = "ergosim/data/cells/multi-subject.toml"
 GB = "ergosim/data/cells/gearbox.toml"
@@ -145,10 +143,9 @@ def test_a_part_the_gripper_cannot_take_is_refused_for_the_robot(capsys, tmp_pat
 # -- a target no allowed agent can reach: the reachability pre-check -----------------------------------------
 def test_a_target_no_allowed_agent_can_reach(capsys, tmp_path):
     """The worker stands back by 0.8 m: a5 (the worker's alone) cannot take J from where a1 puts it."""
-    area = build_scene("multi-subject").site_pose("assembly_area")[0]  # where a1 puts J
     _refused(capsys, tmp_path, "multi-subject", "scene.worker_xy=-0.8,0",
-             needles=(MS, "actions.a5", "human cannot reach J for a5",
-                      f"{np.round(area, 2).tolist()} to outfeed", "the run would fail"))
+             needles=(MS, "actions.a5", "human cannot reach J for a5", "to outfeed at [",
+                      "the run would fail"))
 
 
 def test_a_robot_only_action_the_robot_cannot_reach(capsys, tmp_path):
