@@ -49,7 +49,7 @@ def test_the_script_makes_a_looping_gif_with_its_provenance(tmp_path):
     out = tmp_path / "clip.gif"
     env = {**os.environ, "MUJOCO_GL": "egl"}
     done = subprocess.run([sys.executable, str(ROOT / "scripts" / "make_readme_gif.py"), "--out", str(out),
-                           "--repetitions", "2", "--speed", "40", "--width", "160", "--fps", "4", "--quiet"],
+                           "--repetitions", "4", "--speed", "40", "--width", "160", "--fps", "4", "--quiet"],
                           capture_output=True, text=True, env=env, timeout=600, check=False)
     assert done.returncode == 0, done.stderr
     doc = json.loads(out.with_suffix(".json").read_text())
