@@ -20,7 +20,7 @@ import numpy as np  # noqa: E402
 from ergosim.atomic import write_bytes  # noqa: E402
 from ergosim.posture import KWEAR_JOINTS  # noqa: E402
 
-__all__ = ["write_plots", "save_figure", "kwear_timeline"]
+__all__ = ["write_plots", "save_figure", "kwear_timeline", "allocation_histogram"]
 
 COLOURS = {"shoulder": "#1f77b4", "elbow": "#ff7f0e", "wrist": "#2ca02c", "trunk": "#d62728",
            "neck": "#9467bd"}
@@ -108,4 +108,10 @@ def write_plots(out: Path, scenario: str, results, cfg) -> None:
         _action_trace(out, action, t, v, first.name)
     for mode, run in first.runs.items():
         _timeline(out, mode, run, cfg.v_th)
-    _histogram(out, results, [m for m in cfg.modes if m not in ("h-only",)])
+    allocation_histogram(out, results, cfg.modes)
+
+
+def allocation_histogram(out: Path, results, modes) -> None:
+    """``allocation_histogram.png`` of ``results`` (subject results or records with ``runs[mode]``) for
+    ``modes`` but h-only (where the robot takes nothing)."""
+    _histogram(out, results, [m for m in modes if m not in ("h-only",)])

@@ -22,11 +22,13 @@ from ergosim.twin.kwear_state import state_document
 from ergosim.twin.plots import write_plots
 from ergosim.twin.progress import Progress
 from ergosim.twin.recording import record_run
-from ergosim.twin.report import summarise, write_allocations, write_failures, write_summary, write_ticks
+from ergosim.twin.report import write_ticks
 from ergosim.twin.run_folder import RunFolder
+from ergosim.twin.run_summary import write_summary_files
 from ergosim.twin.runner import SubjectResult, run_subject, subject_cell
 from ergosim.twin.scenario import ScenarioConfig
 from ergosim.twin.scenariofile import Scenario
+from ergosim.twin.subject_records import SubjectRecord
 from ergosim.worker.subjects import make_subjects
 
 __all__ = ["run_scenario", "ScenarioResult", "EXIT_ABANDONED"]
@@ -55,34 +57,16 @@ def _job(args) -> SubjectResult:
 
 
 def _write(out: Path, name: str, seed: int, cfg: ScenarioConfig, results: list[SubjectResult],
-           complete: bool, final: bool, status: str = "running") -> dict:
+           complete: bool, final: bool, status: str = "running", subjects: range | None = None) -> dict:
     results = sorted(results, key=lambda r: r.subject)
-    modes = {m: [r.runs[m] for r in results if m in r.runs] for m in cfg.modes}
-    extra = {
-        "subjects": [r.name for r in results],
-        "calibration": {
-            "eta_by_subject": [r.eta for r in results],
-            "max_error_by_subject": [r.calibration_errors for r in results],
-            "rula_g_by_subject": [r.rula_g for r in results],
-            "alpha_by_subject": [r.alphas for r in results],
-        },
-        "config": {k: v for k, v in vars(cfg).items()},
-    }
-    summary = summarise(name, seed, modes, actions=list(_actions(results)), complete=complete, extra=extra)
-    abandoned = sum(m["repetitions_abandoned"] for m in summary["modes"].values())
-    summary["status"] = "abandoned" if status == "complete" and abandoned else status
-    summary["complete"] = complete and not abandoned
-    summary["subjects_finished"] = len(results)
-    summary["subjects_planned"] = cfg.subjects
-    summary["repetitions_abandoned"] = abandoned
-    runs = [r.runs[m] for r in results for m in cfg.modes if m in r.runs]
-    write_allocations(out / "allocations.csv", [a for run in runs for a in run.allocations])
-    write_failures(out / "failures.csv", [f for run in runs for f in run.failures])
+    subjects = subjects if subjects is not None else range(cfg.subjects)
+    summary = write_summary_files(out, name, seed, vars(cfg), [SubjectRecord.of(r) for r in results],
+                                  subject_range=(subjects.start, subjects.stop), complete=complete,
+                                  status=status)
     if final:
         write_ticks(out / "ticks.csv", [run for r in results for run in r.runs.values()])
         _write_states(out, name, seed, cfg, results)
         write_plots(out, name, results, cfg)
-    write_summary(out / "summary.json", summary)
     return summary
 
 
@@ -101,21 +85,18 @@ def _write_states(out: Path, name: str, seed: int, cfg: ScenarioConfig, results:
             write_json(out / f"kwear_state_s{r.subject}_{mode}.json", doc)
 
 
-def _actions(results: list[SubjectResult]) -> list[str]:
-    for r in results:
-        return sorted(r.alphas)
-    return []
-
-
 def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None = None, progress: bool = True,
-                 recorder=None, record_subject: int = 0, record_mode: str | None = None) -> ScenarioResult:
+                 recorder=None, record_subject: int = 0, record_mode: str | None = None,
+                 subjects: range | None = None) -> ScenarioResult:
     """Run ``scenario`` for its subjects and write summary.json, allocations.csv, failures.csv, ticks.csv,
     the KWear state files and PNGs into ``out``, which the run owns (run.json).
 
     ``recorder`` (an enabled :class:`~ergosim.viz.TwinRecorder`): subject ``record_subject``'s run in mode
     ``record_mode`` (default: the first mode) is logged to it (3-D workcell, joint angles, RULA, KWear,
-    decisions, failures) once the run is over. SIGINT and SIGTERM stop the run the same way: the finished
-    subjects are written, then :class:`~ergosim.twin.interrupt.Interrupted` propagates.
+    decisions, failures) once the run is over. ``subjects``: run only these subjects of the population (a
+    shard, ``ergosim run --subject-range``; default all), each seeded as in the whole run. SIGINT and
+    SIGTERM stop the run the same way: the finished subjects are written, then
+    :class:`~ergosim.twin.interrupt.Interrupted` propagates.
     """
     name, cfg = scenario.name, scenario.protocol
     out = Path(out)
@@ -123,10 +104,11 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
     record_mode = (record_mode or cfg.modes[0]) if recording else None
     folder = RunFolder(out, scenario=name, seed=seed)
     folder.claim({k: v for k, v in vars(cfg).items()})
-    jobs = max(1, min(jobs or os.cpu_count() or 1, cfg.subjects))
+    subjects = subjects if subjects is not None else range(cfg.subjects)
+    jobs = max(1, min(jobs or os.cpu_count() or 1, len(subjects)))
     args = [(scenario, i, seed, tuple(cfg.modes), record_mode if i == record_subject else None)
-            for i in range(cfg.subjects)]
-    bar = Progress(cfg.subjects, f"{name}: subjects", enabled=progress)
+            for i in subjects]
+    bar = Progress(len(subjects), f"{name}: subjects", enabled=progress)
     results: list[SubjectResult] = []
     start = time.monotonic()
     status, reason = "failed", ""
@@ -135,7 +117,7 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
             if jobs == 1:
                 for a in args:
                     results.append(_job(a))
-                    _write(out, name, seed, cfg, results, complete=False, final=False)
+                    _write(out, name, seed, cfg, results, complete=False, final=False, subjects=subjects)
                     bar.advance()
             else:
                 ctx = multiprocessing.get_context("spawn")
@@ -145,7 +127,7 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
                 try:
                     for fut in cf.as_completed(futures):
                         results.append(fut.result())
-                        _write(out, name, seed, cfg, results, complete=False, final=False)
+                        _write(out, name, seed, cfg, results, complete=False, final=False, subjects=subjects)
                         bar.advance()
                 except BaseException:
                     stop_pool(pool)
@@ -166,13 +148,14 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
         with interrupt_on_signals():  # a second Ctrl-C while writing still leaves whole files
             if results:
                 summary = _write(out, name, seed, cfg, results, complete=status == "complete", final=True,
-                                 status=status)
+                                 status=status, subjects=subjects)
                 if summary["status"] == "abandoned":
                     status = "abandoned"
                     reason = f"{summary['repetitions_abandoned']} repetition(s) abandoned"
                 folder.finish(status, reason)
             elif status == "interrupted":
-                summary = _write(out, name, seed, cfg, results, complete=False, final=True, status=status)
+                summary = _write(out, name, seed, cfg, results, complete=False, final=True, status=status,
+                                 subjects=subjects)
                 folder.finish(status, reason)
             else:
                 summary = {}
