@@ -18,7 +18,7 @@ from ergosim.errors import ErgosimError
 
 __all__ = ["main", "build_parser"]
 
-COMMANDS = ("plan", "run", "replay", "merge")
+COMMANDS = ("plan", "run", "replay", "sweep", "compare", "merge")
 
 
 def build_parser() -> argparse.ArgumentParser:
