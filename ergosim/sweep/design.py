@@ -179,6 +179,14 @@ def parse_sweep(doc: Mapping[str, Any], *, source: str = "<sweep>", base_dir: Pa
     if n_units > MAX_UNITS:
         raise ConfigError(f"the sweep has {n_units} work units (cells × subjects × seeds × modes), more than "
                           f"the limit of {MAX_UNITS} (MAX_UNITS)", where=source)
+    for axis in axes:  # each value alone first, so a bad key or value is named as the file has it
+        for value in axis.values:
+            text = set_string(value, source)
+            try:
+                base.with_overrides({axis.key: text})
+            except ErgosimError as err:
+                raise ConfigError(f"{axis.key}={text}: {err.what}", where=at(f"{axis.block}.{axis.key}")) \
+                    from None
     scenarios = []
     for cell in cells:
         try:
