@@ -114,6 +114,15 @@ def test_local_and_ray_give_the_same_rows(local, tmp_path):
     ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False)
     try:
         result = run_sweep(load_sweep(path), tmp_path / "ray", executor="ray", progress=False)
+        # a second driver joins the running instance as a cluster, by address (`--ray-address`); half the
+        # units are found done, the rest run on the cluster
+        address = ray.get_runtime_context().gcs_address
+        for done in sorted((tmp_path / "ray" / "units").glob("*.json"))[:4]:
+            (tmp_path / "cluster" / "units").mkdir(parents=True, exist_ok=True)
+            (tmp_path / "cluster" / "units" / done.name).write_bytes(done.read_bytes())
+        proc = _cli(["sweep", str(path), "--out", str(tmp_path / "cluster"), "--executor", "ray",
+                     "--ray-address", address, "--quiet"])
+        _, err = proc.communicate(timeout=300)
     finally:
         ray.shutdown()
     assert result.status == "complete" and result.executor["executor"] == "ray" and result.ran == 8
@@ -121,6 +130,10 @@ def test_local_and_ray_give_the_same_rows(local, tmp_path):
     table = pq.read_table(tmp_path / "ray" / "results.parquet")
     assert table.equals(reference)
     assert pq.read_table(tmp_path / "ray" / "cells.parquet").equals(pq.read_table(local[1] / "cells.parquet"))
+    assert proc.returncode == 0, err
+    manifest = json.loads((tmp_path / "cluster" / "sweep.json").read_text())
+    assert manifest["executor"]["ray_address"] == address and manifest["units_run"] == 4
+    assert pq.read_table(tmp_path / "cluster" / "results.parquet").equals(reference)
 
 
 def test_ray_executor_starts_and_stops_its_own_instance(tmp_path, capsys):

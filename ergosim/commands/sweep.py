@@ -96,8 +96,10 @@ def run(args) -> int:
     result = run_sweep(sweep, out, executor=args.executor, jobs=args.jobs, ray_address=args.ray_address,
                        progress=not args.quiet, retry_failed=args.retry_failed, sweep_text=text)
     print(_cells_text(out, sweep))
-    print(f"\n{result.finished}/{result.units} units finished ({result.skipped} found done, {result.ran} run "
-          f"on {result.executor.get('executor')} with {result.executor.get('workers', '?')} workers), "
+    ran = f"{result.ran} run"
+    if result.ran:
+        ran += f" on {result.executor.get('executor')} with {result.executor.get('workers')} workers"
+    print(f"\n{result.finished}/{result.units} units finished ({result.skipped} found done, {ran}), "
           f"{result.failed} failed, {result.abandoned} abandoned, in {result.wall:.1f} s")
     print(f"results: {out.resolve()} (results.parquet, cells.parquet, allocations.parquet"
           + (", " + ", ".join(result.plots) if result.plots else "") + ")")

@@ -134,7 +134,7 @@ class RayExecutor(Executor):
         self._ray = ray
         self._owned = False
         if not ray.is_initialized():
-            kwargs: dict[str, Any] = {"include_dashboard": False, "logging_level": logging.WARNING,
+            kwargs: dict[str, Any] = {"include_dashboard": False, "logging_level": logging.ERROR,
                                       "log_to_driver": False}
             if address:
                 kwargs["address"] = address

@@ -34,6 +34,8 @@ METRICS: dict[str, str] = {
     "failed_attempts": "failed attempts",
     "robot_failures": "robot failures",
     "worker_failures": "worker failures",
+    "first_robot_repetition": "the first repetition in which the robot completed an action (none: never)",
+    "first_robot_time": "when the robot started the first action it completed [s from the run's start]",
 }
 """Metric name -> what it is [unit]: one number per (cell, subject, mode, seed)."""
 
@@ -45,7 +47,8 @@ ACTION_METRICS: dict[str, str] = {
 
 INTEGER_METRICS = frozenset({"takt_overruns", "repetitions_completed", "repetitions_abandoned", "actions",
                              "robot_actions", "forced_robot_actions", "forced_human_actions",
-                             "failed_attempts", "robot_failures", "worker_failures"})
+                             "failed_attempts", "robot_failures", "worker_failures",
+                             "first_robot_repetition"})
 
 DEFAULT_METRICS = ("robot_share", "kwear_integral", "time_above_vth", "takt_overruns")
 
@@ -96,6 +99,10 @@ def unit_metrics(run, rula_g: Mapping[str, float], actions: Sequence[str]) -> di
                 "forced_robot_actions", "forced_human_actions", "failed_attempts", "robot_failures",
                 "worker_failures"):
         out[key] = int(m[key])
+    robot = sorted((a.repetition, a.t_start) for a in run.allocations
+                   if a.done and a.agent not in ("human", ""))
+    out["first_robot_repetition"] = int(robot[0][0]) if robot else None
+    out["first_robot_time"] = float(robot[0][1]) if robot else None
     for a in actions:
         g = rula_g.get(a)
         out[f"rula_g.{a}"] = float(g) if g is not None else None

@@ -59,29 +59,36 @@ def _grid(n: int) -> tuple[int, int]:
     return (n + cols - 1) // cols, cols
 
 
+def _levels(rows, column: str) -> list:
+    return sorted({_key(r[column]) for r in rows}, key=lambda v: (v if _numeric([v]) else str(v)))
+
+
 def write_sweep_plots(out: Path, sweep, rows: Sequence[Mapping[str, Any]]) -> list[str]:
-    """Write the figures of ``rows`` (results rows of complete cells) into ``out``; return their names."""
-    ok = [r for r in rows if r["status"] != "failed"]
-    if not ok or not sweep.axes:
+    """Write the figures of ``rows`` (results rows of complete cells) into ``out``; return their names.
+    Values whose every unit failed are drawn as such (a grey × on the response plots, a grey cell marked
+    "failed" in the heat maps), so the design's infeasible part stays visible."""
+    if not any(r["status"] != "failed" for r in rows) or not sweep.axes:
         return []
     names = []
     for axis in sweep.axes:
-        names.append(_response(out, sweep, axis, ok))
+        names.append(_response(out, sweep, axis, rows))
     for a, b in list(itertools.combinations(sweep.axes, 2))[:MAX_PAIRS]:
-        names.append(_heatmap(out, sweep, a, b, ok))
+        names.append(_heatmap(out, sweep, a, b, rows))
     return names
 
 
 def _response(out: Path, sweep, axis, rows) -> str:
-    levels = sorted({_key(r[axis.column]) for r in rows}, key=lambda v: (v if _numeric([v]) else str(v)))
+    levels = _levels(rows, axis.column)
     numeric = _numeric(levels)
     x = np.asarray(levels, float) if numeric else np.arange(len(levels), dtype=float)
+    at = {lv: [r for r in rows if _key(r[axis.column]) == lv] for lv in levels}
+    dead = [i for i, lv in enumerate(levels) if all(r["status"] == "failed" for r in at[lv])]
     nr, nc = _grid(len(sweep.metrics))
     fig, axes = plt.subplots(nr, nc, figsize=(4.6 * nc, 3.3 * nr), squeeze=False)
     for k, metric in enumerate(sweep.metrics):
         ax = axes[k // nc][k % nc]
         for j, mode in enumerate(sweep.modes):
-            stats = [mean_ci([r[metric] for r in rows if r["mode"] == mode and _key(r[axis.column]) == lv])
+            stats = [mean_ci([r[metric] for r in at[lv] if r["mode"] == mode and r["status"] != "failed"])
                      for lv in levels]
             mean = np.array([s["mean"] if s["mean"] is not None else np.nan for s in stats])
             lo = np.array([s["ci_low"] if s["ci_low"] is not None else np.nan for s in stats])
@@ -91,17 +98,20 @@ def _response(out: Path, sweep, axis, rows) -> str:
             ax.fill_between(x, lo, hi, color=colour, alpha=0.18, lw=0)
             ax.errorbar(x, mean, yerr=[np.nan_to_num(mean - lo), np.nan_to_num(hi - mean)], fmt="none",
                         ecolor=colour, elinewidth=0.8, capsize=2.5)
+        if dead:
+            ax.plot(x[dead], np.full(len(dead), 0.04), "x", color="0.45", ms=7, mew=1.6,
+                    transform=ax.get_xaxis_transform(), label="every unit failed", clip_on=False)
         if not numeric:
             ax.set_xticks(x, [_label(v) for v in levels], rotation=30 if len(levels) > 4 else 0, fontsize=8)
         ax.set_xlabel(axis.key)
         ax.set_ylabel(_wrap(metric_label(metric)), fontsize=8)
         ax.set_title(metric, fontsize=9)
         ax.grid(alpha=0.3)
-        if len(sweep.modes) > 1 or k == 0:
+        if k == 0:
             ax.legend(fontsize=7, title="mode", title_fontsize=7)
     for k in range(len(sweep.metrics), nr * nc):
         axes[k // nc][k % nc].set_visible(False)
-    n = {len([r for r in rows if _key(r[axis.column]) == lv]) for lv in levels}
+    n = {sum(r["status"] != "failed" for r in at[lv]) for i, lv in enumerate(levels) if i not in dead}
     per = f"{min(n)}–{max(n)}" if len(n) > 1 else f"{min(n)}"
     fig.suptitle(f"{sweep.name}: response to {axis.key} (mean and 95 % CI over {per} units per value)",
                  fontsize=10)
@@ -112,44 +122,55 @@ def _response(out: Path, sweep, axis, rows) -> str:
 
 
 def _heatmap(out: Path, sweep, a, b, rows) -> str:
-    la = sorted({_key(r[a.column]) for r in rows}, key=lambda v: (v if _numeric([v]) else str(v)))
-    lb = sorted({_key(r[b.column]) for r in rows}, key=lambda v: (v if _numeric([v]) else str(v)))
+    la, lb = _levels(rows, a.column), _levels(rows, b.column)
     binned = len(la) <= MAX_HEATMAP_LEVELS and len(lb) <= MAX_HEATMAP_LEVELS
-    nm, nmodes = len(sweep.metrics), len(sweep.modes)
-    fig, axes = plt.subplots(nmodes, nm, figsize=(3.9 * nm, 3.3 * nmodes), squeeze=False)
-    for i, mode in enumerate(sweep.modes):
+    panels = [(mode, metric) for mode in sweep.modes for metric in sweep.metrics]
+    if len(sweep.modes) == 1:
+        nr, nc = _grid(len(panels))
+    else:
+        nr, nc = len(sweep.modes), len(sweep.metrics)
+    fig, axes = plt.subplots(nr, nc, figsize=(4.3 * nc, 3.4 * nr), squeeze=False)
+    for k, (mode, metric) in enumerate(panels):
+        ax = axes[k // nc][k % nc]
         of = [r for r in rows if r["mode"] == mode]
-        for k, metric in enumerate(sweep.metrics):
-            ax = axes[i][k]
-            if binned:
-                grid = np.full((len(lb), len(la)), np.nan)
-                for p, va in enumerate(la):
-                    for q, vb in enumerate(lb):
-                        s = mean_ci([r[metric] for r in of
-                                     if _key(r[a.column]) == va and _key(r[b.column]) == vb])
-                        grid[q, p] = s["mean"] if s["mean"] is not None else np.nan
-                im = ax.imshow(grid, origin="lower", aspect="auto", cmap="viridis")
-                ax.set_xticks(range(len(la)), [_label(v) for v in la], fontsize=7,
-                              rotation=30 if len(la) > 5 else 0)
-                ax.set_yticks(range(len(lb)), [_label(v) for v in lb], fontsize=7)
-                if grid.size <= 64:
-                    lim = np.nanmean(grid) if np.isfinite(grid).any() else 0.0
-                    for q, p in itertools.product(range(len(lb)), range(len(la))):
-                        if np.isfinite(grid[q, p]):
-                            ax.text(p, q, f"{grid[q, p]:.3g}", ha="center", va="center", fontsize=7,
-                                    color="white" if grid[q, p] < lim else "black")
-            else:
-                cells: dict[tuple, list] = {}
-                for r in of:
+        if binned:
+            grid = np.full((len(lb), len(la)), np.nan)
+            failed = np.zeros(grid.shape, bool)
+            for p, va in enumerate(la):
+                for q, vb in enumerate(lb):
+                    cell = [r for r in of if _key(r[a.column]) == va and _key(r[b.column]) == vb]
+                    failed[q, p] = bool(cell) and all(r["status"] == "failed" for r in cell)
+                    s = mean_ci([r[metric] for r in cell if r["status"] != "failed"])
+                    grid[q, p] = s["mean"] if s["mean"] is not None else np.nan
+            ax.set_facecolor("0.88")
+            im = ax.imshow(grid, origin="lower", aspect="auto", cmap="viridis")
+            ax.set_xticks(range(len(la)), [_label(v) for v in la], fontsize=7,
+                          rotation=30 if len(la) > 5 else 0)
+            ax.set_yticks(range(len(lb)), [_label(v) for v in lb], fontsize=7)
+            if grid.size <= 64:
+                mid = np.nanmean(grid) if np.isfinite(grid).any() else 0.0
+                for q, p in itertools.product(range(len(lb)), range(len(la))):
+                    if np.isfinite(grid[q, p]):
+                        ax.text(p, q, f"{grid[q, p]:.3g}", ha="center", va="center", fontsize=7,
+                                color="white" if grid[q, p] < mid else "black")
+                    elif failed[q, p]:
+                        ax.text(p, q, "failed", ha="center", va="center", fontsize=6.5, color="0.35")
+        else:
+            cells: dict[tuple, list] = {}
+            for r in of:
+                if r["status"] != "failed":
                     cells.setdefault((_key(r[a.column]), _key(r[b.column])), []).append(r[metric])
-                pts = [(va, vb, mean_ci(v)["mean"]) for (va, vb), v in cells.items()]
-                pts = [p for p in pts if p[2] is not None and _numeric(p[:2])]
-                im = ax.scatter([p[0] for p in pts], [p[1] for p in pts], c=[p[2] for p in pts],
-                                cmap="viridis", s=40, edgecolors="k", linewidths=0.4)
-            fig.colorbar(im, ax=ax, shrink=0.85)
-            ax.set_xlabel(a.key, fontsize=8)
-            ax.set_ylabel(b.key, fontsize=8)
-            ax.set_title(f"{metric} ({mode})", fontsize=9)
+            pts = [(va, vb, mean_ci(v)["mean"]) for (va, vb), v in cells.items()]
+            pts = [p for p in pts if p[2] is not None and _numeric(p[:2])]
+            im = ax.scatter([p[0] for p in pts], [p[1] for p in pts], c=[p[2] for p in pts],
+                            cmap="viridis", s=40, edgecolors="k", linewidths=0.4)
+        bar = fig.colorbar(im, ax=ax, shrink=0.85)
+        bar.ax.tick_params(labelsize=7)
+        ax.set_xlabel(a.key, fontsize=8)
+        ax.set_ylabel(b.key, fontsize=8)
+        ax.set_title(f"{metric} ({mode})", fontsize=9)
+    for k in range(len(panels), nr * nc):
+        axes[k // nc][k % nc].set_visible(False)
     fig.suptitle(f"{sweep.name}: mean per cell over {a.key} × {b.key}", fontsize=10)
     fig.tight_layout()
     name = f"heatmap_{_safe(a.key)}__{_safe(b.key)}.png"
