@@ -136,6 +136,7 @@ def test_local_and_ray_give_the_same_rows(local, tmp_path):
     assert pq.read_table(tmp_path / "cluster" / "results.parquet").equals(reference)
 
 
+@pytest.mark.slow
 def test_ray_executor_starts_and_stops_its_own_instance(tmp_path, capsys):
     """Through the CLI: `--executor ray` with no address starts a local Ray and shuts it down after."""
     path = _sweep_file(tmp_path, SMALL.replace("subjects = 2", "subjects = 1").replace(

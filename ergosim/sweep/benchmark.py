@@ -5,7 +5,9 @@ The study is a one-cell sweep of ``units`` subjects of a bundled scenario in one
 each. Every configuration runs it end to end into a fresh folder, start-up included (the process pool's
 spawn and imports; for Ray, a local instance started and shut down by the sweep, as ``ergosim sweep
 --executor ray`` does without an address), and the configurations are interleaved within each repeat so
-they see the same machine load. Parallel efficiency = units/s ÷ (workers × units/s of one process).
+they see the same machine load (the 1/5/15-minute load averages before and after are reported: other work
+on the machine lowers the parallel figures). Parallel efficiency = units/s ÷ (workers × units/s of one
+process).
 """
 
 from __future__ import annotations
@@ -43,6 +45,7 @@ def bench_sweep(scenario: str = "kwear-validation", units: int = 12, repeats: in
     walls: dict[str, list[float]] = {f"{e}_{w}": [] for e, w in CONFIGS}
     unit_walls: dict[str, list[float]] = {k: [] for k in walls}
     startups = []
+    load_before = os.getloadavg()
     for _ in range(repeats):
         for executor, workers in CONFIGS:
             key = f"{executor}_{workers}"
@@ -65,4 +68,5 @@ def bench_sweep(scenario: str = "kwear-validation", units: int = 12, repeats: in
                         "parallel_efficiency": rate / (workers * serial),
                         "unit_wall_s": statistics.median(unit_walls[key]), "walls_s": walls[key]}
     return {"scenario": scenario, "mode": mode, "units": units, "repeats": repeats, "cores": os.cpu_count(),
-            "configs": configs, "ray_startup_s": statistics.median(startups)}
+            "configs": configs, "ray_startup_s": statistics.median(startups),
+            "load_average": {"before": list(load_before), "after": list(os.getloadavg())}}

@@ -38,6 +38,7 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
+import json
 import math
 import os
 from collections.abc import Mapping, Sequence
@@ -170,8 +171,14 @@ def parse_sweep(doc: Mapping[str, Any], *, source: str = "<sweep>", base_dir: Pa
     slots = {m: base_modes.index(m) if m in base_modes else len(base_modes) + extra.index(m) for m in modes}
     actions = tuple(base.task().actions)
     metrics = _metrics(doc.get("metrics", list(DEFAULT_METRICS)), actions, at("metrics"))
+    points, seen = [], set()
+    for p in _product(blocks):  # sample points that coincide (integer ranges) are one cell, the first kept
+        key = json.dumps(p, sort_keys=True)
+        if key not in seen:
+            seen.add(key)
+            points.append(p)
     cells = tuple(Cell(i, params, {k: set_string(v, source) for k, v in params.items()})
-                  for i, params in enumerate(_product(blocks)))
+                  for i, params in enumerate(points))
     if len(cells) > MAX_CELLS:
         raise ConfigError(f"the design has {len(cells)} cells, more than the limit of {MAX_CELLS} "
                           "(MAX_CELLS)", where=source)

@@ -11,6 +11,7 @@ error and the sweep goes on.
 from __future__ import annotations
 
 import dataclasses
+import os
 import sys
 import time
 from collections.abc import Mapping, Sequence
@@ -108,7 +109,8 @@ def run_sweep(sweep, out: str | Path, *, executor: str = "local", jobs: int | No
         if retry_failed:
             docs = {k: d for k, d in docs.items() if d["status"] != "failed"}
         skipped = len(docs)
-        todo = [u for u in units if u.id not in docs]
+        # a unit shared by two cells (the same resolved scenario) runs once
+        todo = list({u.id: u for u in units if u.id not in docs}.values())
         if sweep_text is not None:
             folder.write_sweep_file(sweep_text)
         described: dict[str, Any] = {"executor": executor}
@@ -118,7 +120,8 @@ def run_sweep(sweep, out: str | Path, *, executor: str = "local", jobs: int | No
         try:
             with interrupt_on_signals():
                 if todo:
-                    with make_executor(executor, jobs, ray_address) as ex:
+                    workers = min(jobs or os.cpu_count() or 1, len(todo)) if executor == "local" else jobs
+                    with make_executor(executor, workers, ray_address) as ex:
                         described = ex.describe()
                         bar = tqdm(total=len(units), initial=skipped, desc=sweep.name, unit="unit",
                                    disable=not progress, file=sys.stderr, dynamic_ncols=True, smoothing=0.05,
