@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import importlib
 import textwrap
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -16,6 +17,7 @@ from ergosim.sweep.design import MAX_CELLS, load_sweep, set_string
 from ergosim.sweep.units import plan_units, unit_id
 from ergosim.twin.scenariofile import scenario_path
 
+ROOT = Path(__file__).resolve().parents[1]
 MODULES = ["design", "units", "executors", "folder", "tables", "stats", "plots", "runner", "metrics",
            "compare"]
 
@@ -229,3 +231,19 @@ def test_a_run_folder_is_not_a_sweep_folder(tmp_path, capsys):
     path = _write(tmp_path, 'scenario = "kwear-validation"\n')
     assert main(["sweep", str(path), "--out", str(tmp_path / "run"), "--quiet"]) == 2
     assert "folder of an `ergosim run`" in capsys.readouterr().err
+
+
+def _toml_blocks(path: Path) -> list[str]:
+    text = path.read_text()
+    return [b.split("```", 1)[0] for b in text.split("```toml\n")[1:]]
+
+
+def test_the_documented_sweep_files_are_valid(tmp_path):
+    """The example study, and every sweep file shown in README.md and docs/sweeps.md, reads and resolves."""
+    s = load_sweep(ROOT / "examples" / "sweeps" / "shelf_height.toml")
+    assert len(s.cells) == 18 and s.n_units == 90 and s.seeds == (0, 1, 2, 3, 4)
+    blocks = [b for doc in ("README.md", "docs/sweeps.md") for b in _toml_blocks(ROOT / doc)
+              if "\nscenario = " in "\n" + b]
+    assert len(blocks) >= 3
+    for k, block in enumerate(blocks):
+        assert load_sweep(_write(tmp_path, block, f"doc{k}.toml")).cells
