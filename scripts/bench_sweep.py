@@ -31,11 +31,15 @@ def main() -> None:
         return
     print(f"{res['units']} units of {res['scenario']} (one repetition, {res['mode']}), median of "
           f"{res['repeats']} repeats, {res['cores']} cores:")
-    print(f"  {'configuration':<14} {'wall [s]':>9} {'units/s':>8} {'efficiency':>10} {'s per unit':>10}")
+    print(f"  {'configuration':<14} {'wall [s]':>9} {'units/s':>8} {'efficiency':>10} {'steady u/s':>10} "
+          f"{'steady eff.':>11} {'s per unit':>10}")
     for key, c in res["configs"].items():
         print(f"  {key:<14} {c['wall_s']:9.1f} {c['units_per_s']:8.3f} {c['parallel_efficiency']:10.2f} "
+              f"{c['steady_units_per_s']:10.3f} {c['steady_parallel_efficiency']:11.2f} "
               f"{c['unit_wall_s']:10.2f}")
-    print(f"  (a local Ray instance takes {res['ray_startup_s']:.1f} s to start and stop; included above)")
+    load = res["load_average"]
+    print(f"  ray.init of the local Ray instance: {res['ray_startup_s']:.1f} s (in ray_2's wall time); load "
+          f"average before/after {load['before'][0]:.1f}/{load['after'][0]:.1f}")
 
 
 if __name__ == "__main__":

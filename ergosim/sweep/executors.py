@@ -17,6 +17,7 @@ import logging
 import multiprocessing
 import os
 import signal
+import time
 from collections.abc import Iterable, Iterator, Sequence
 from typing import Any
 
@@ -133,6 +134,7 @@ class RayExecutor(Executor):
                               where="--executor ray") from None
         self._ray = ray
         self._owned = False
+        self.startup_s = 0.0
         if not ray.is_initialized():
             kwargs: dict[str, Any] = {"include_dashboard": False, "logging_level": logging.ERROR,
                                       "log_to_driver": False}
@@ -140,6 +142,7 @@ class RayExecutor(Executor):
                 kwargs["address"] = address
             else:
                 kwargs["num_cpus"] = max(1, jobs or os.cpu_count() or 1)
+            t0 = time.perf_counter()
             try:
                 ray.init(**kwargs)
             except Exception as err:  # noqa: BLE001 - ray raises ConnectionError, RuntimeError, ValueError...
@@ -147,6 +150,7 @@ class RayExecutor(Executor):
                 raise ConfigError(f"{what}: {' '.join(str(err).split())[:300]}",
                                   where="--ray-address" if address else "--executor ray") from None
             self._owned = True
+            self.startup_s = time.perf_counter() - t0
         cpus = int(ray.cluster_resources().get("CPU", 1))
         self.workers = max(1, min(jobs, cpus) if (jobs and address) else cpus)
         self._remote = ray.remote(num_cpus=1)(_ray_unit)
@@ -192,7 +196,8 @@ class RayExecutor(Executor):
         self._owned = False
 
     def describe(self) -> dict[str, Any]:
-        return {"executor": self.name, "workers": self.workers, "ray_address": self.address}
+        return {"executor": self.name, "workers": self.workers, "ray_address": self.address,
+                "startup_s": self.startup_s}
 
 
 def make_executor(kind: str, jobs: int | None = None, address: str | None = None) -> Executor:

@@ -109,6 +109,7 @@ def run_unit(scenario: Scenario, unit: Unit, actions: Sequence[str]) -> dict[str
         where = traceback.extract_tb(err.__traceback__)[-1]
         doc["error"] = f"{type(err).__name__}: {err} ({os.path.basename(where.filename)}:{where.lineno})"
     doc["wall_s"] = time.perf_counter() - start
+    doc["finished_at"] = time.time()  # wall clock [s since the epoch], for throughput; not in the tables
     doc["host"] = socket.gethostname()
     return doc
 
