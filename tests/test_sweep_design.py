@@ -107,6 +107,19 @@ def test_sampled_designs_are_seeded(tmp_path, method):
     assert [c.params for c in other.cells] != [c.params for c in a.cells]
 
 
+def test_coinciding_sample_points_are_one_cell(tmp_path):
+    s = load_sweep(_write(tmp_path, """
+        scenario = "kwear-validation"
+        [sample]
+        method = "random"
+        n = 12
+        seed = 0
+        repetitions = [1, 2]
+    """))
+    assert sorted(c.params["repetitions"] for c in s.cells) == [1, 2]
+    assert len({u.id for u in plan_units(s)}) == len(plan_units(s))
+
+
 def test_no_axis_is_one_cell_and_subjects_can_be_a_range_or_a_list(tmp_path):
     s = load_sweep(_write(tmp_path, 'scenario = "kwear-validation"\nsubjects = "2:5"\nseeds = 7\n'))
     assert len(s.cells) == 1 and s.cells[0].label() == "base" and s.subjects == (2, 3, 4) and s.seeds == (7,)
