@@ -18,7 +18,8 @@ from ergosim.errors import ErgosimError
 
 __all__ = ["main", "build_parser"]
 
-COMMANDS = ("plan", "run", "replay", "sweep", "compare", "merge")
+COMMANDS = ("plan", "run", "scenarios", "replay", "render", "plot", "fidelity", "sweep", "compare",
+            "merge")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -35,7 +36,16 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def headless_gl() -> None:
+    """Pick MuJoCo's offscreen EGL on a Linux machine without a display (MUJOCO_GL is read when mujoco is
+    imported, so this runs first); an explicit MUJOCO_GL, or a display, wins."""
+    if ("MUJOCO_GL" not in os.environ and sys.platform.startswith("linux") and "mujoco" not in sys.modules
+            and not os.environ.get("DISPLAY") and not os.environ.get("WAYLAND_DISPLAY")):
+        os.environ["MUJOCO_GL"] = "egl"
+
+
 def main(argv: list[str] | None = None) -> int:
+    headless_gl()
     parser = build_parser()
     args = parser.parse_args(argv)
     try:

@@ -13,6 +13,7 @@ __all__ = [
     "ConfigError",
     "ModelError",
     "RecordingError",
+    "RenderError",
 ]
 
 
@@ -43,3 +44,7 @@ class ModelError(ErgosimError):
 
 class RecordingError(ErgosimError):
     """A motion-capture recording (e.g. BVH) that cannot be parsed."""
+
+
+class RenderError(ErgosimError):
+    """An offscreen picture or video that cannot be rendered or encoded (no OpenGL context, no encoder)."""

@@ -1,8 +1,10 @@
 """Benchmark the twin loop: real-time factor, overhead over raw mj_step, recording cost, full-run wall time.
 
-    python scripts/bench_sim.py [--mode hrc] [--reps 1] [--repeats 3] [--full] [--json PATH]
+    python scripts/bench_sim.py [--mode hrc] [--reps 1] [--repeats 3] [--full] [--video] [--json PATH]
 
 ``--reps 10`` times a whole subject's run (robot actions included) instead of the first repetition.
+``--video`` also measures ``ergosim run --video``: ms per frame (scene, overlay, encoder) on 10 s of a
+recorded repetition at 960x540, 30 fps, and what keeping the body poses adds to the simulation.
 
 Targets (issue 6/7): real-time factor >= 75x; overhead ratio <= 2; recording adds <= 50 %;
 the full multi-subject run (240 repetitions) under 180 s on 2 cores.
@@ -13,7 +15,11 @@ from __future__ import annotations
 import argparse
 
 from ergosim.atomic import write_json
-from ergosim.twin.benchmark import bench_full, bench_sim
+from ergosim.cli import headless_gl
+
+headless_gl()  # offscreen rendering for --video, before MuJoCo is imported
+
+from ergosim.twin.benchmark import bench_full, bench_sim, bench_video  # noqa: E402
 
 
 def main() -> None:
@@ -23,6 +29,7 @@ def main() -> None:
     parser.add_argument("--repeats", type=int, default=3, help="subjects timed; the median is reported")
     parser.add_argument("--reps", type=int, default=1, help="repetitions per timed run")
     parser.add_argument("--full", action="store_true", help="also time the whole scenario with --jobs 2")
+    parser.add_argument("--video", action="store_true", help="also measure the cost of --video")
     parser.add_argument("--json", dest="json_path")
     args = parser.parse_args()
     res = bench_sim(args.scenario, args.mode, args.repeats, repetitions=args.reps)
@@ -41,6 +48,19 @@ def main() -> None:
         f = res["full_run"]
         print(f"  full {f['scenario']}: {f['repetitions']} repetitions in {f['wall_s']:.0f} s with "
               f"{f['jobs']} jobs (target < 180 s)")
+    if args.video:
+        res["video"] = v = bench_video(args.scenario, repeats=args.repeats)
+        print(f"  video ({v['size'][0]}x{v['size'][1]}, 30 fps, {v['frames']} frames, median of "
+              f"{v['repeats']}):")
+        print(f"    {v['ms_per_frame']:.1f} ms per frame: scene {v['render_ms_per_frame']:.1f}, overlay "
+              f"{v['overlay_ms_per_frame']:.1f}, encoder {v['encode_ms_per_frame']:.1f}")
+        print(f"    {v['wall_per_sim_second']:.2f} s of wall time per simulated second at x1 "
+              f"(x{v['wall_per_sim_second']:.1f} slower than real time; --video-speed X divides it by X)")
+        print(f"    filming takes {v['video_over_simulation']:.0f}x the wall time of simulating the same "
+              "simulated time")
+        print(f"    keeping body poses adds {100 * v['poses_cost']:.0f} % to the simulation "
+              f"({v['sim_wall_s']:.2f} s -> {v['sim_wall_s_with_poses']:.2f} s for {v['sim_time_s']:.0f} s "
+              "simulated); results are unchanged")
     if args.json_path:
         write_json(args.json_path, res)
 

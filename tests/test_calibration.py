@@ -86,13 +86,13 @@ def test_inconsistent_executions_run_to_eta_max_and_say_so():
 
 
 def test_rula_grand_statistic_and_dropouts():
-    # 95th percentile (an observed score) of the pooled valid grand scores; NaN frames ignored.
+    # G(a_k): the grand score held for the most ticks (the posture held longest); NaN frames ignored.
     g = np.tile([3.0, 2.0, 2.0, 2.0, 1.0], (100, 1))
     g[10:15] = np.nan
-    grand = np.full(100, 3.0)
-    grand[:4] = 7.0  # a short spike (4 %) does not set the score
+    grand = np.full(100, 5.0)
+    grand[:40] = 3.0  # 40 ticks at 3
+    grand[40:44] = 7.0  # a short spike does not set the score
     grand[10:15] = np.nan
-    grand[50:60] = 5.0
     cal = calibrate_action(lambda run: Execution(g, DT, grand), P)
     assert cal.rula_grand == 5.0 and cal.dropouts == 10
     np.testing.assert_allclose(cal.alpha, np.exp(-np.array([3.0, 2, 2, 2, 1]) * 95 * DT / P.C))
@@ -186,3 +186,13 @@ def test_store_errors(tmp_path):
             store.path(bad_id)
     with pytest.raises(ConfigError, match="no calibrated alpha"):
         WorkerParams("S01").alpha("a1")
+
+
+def test_action_grand_score_is_the_score_held_longest():
+    from ergosim.ergonomics import action_grand_score  # noqa: PLC0415
+
+    assert action_grand_score(np.array([3, 3, 3, 6, 6, 4.0])) == 3.0
+    assert action_grand_score(np.array([3, 3, 6, 6.0])) == 6.0  # a tie goes to the higher score
+    # pooled over executions: 2 ticks at 4 in the first, 3 at 5 in the second
+    assert action_grand_score([np.array([4, 4, 5.0]), np.array([5, 5, 3.0])]) == 5.0
+    assert math.isnan(action_grand_score(np.array([np.nan, np.nan])))

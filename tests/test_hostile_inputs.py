@@ -108,13 +108,23 @@ def test_spawn_binds_the_viewer_to_127_0_0_1(monkeypatch):
 
 # -- 3. failed robot attempts are never robot actions --------------------------------------------------------
 def test_a_robot_out_of_reach_is_refused_before_the_run(tmp_path, capsys):
-    """robot_base=3,3,0.85 puts the robot out of reach of every action: the reachability pre-check refuses
-    the cell before any subject starts (the issue's run printed a robot share of 54.5 %)."""
+    """robot_base=3,3,0.85 puts the robot far from its support (the side table): the workcell check refuses
+    it before any subject starts (the issue's run printed a robot share of 54.5 %). A robot that does stand
+    on its support, at the bench's far corner, but reaches none of its actions is refused by the
+    reachability pre-check."""
     out = tmp_path / "far"
     code = main(["run", "multi-subject", "--subjects", "1", "--reps", "1", "--mode", "r-only", "--jobs", "1",
                  "--quiet", "--set", "scene.robot_base=3,3,0.85", "--out", str(out)])
-    _one_line_error(capsys, code, "robot 'robot' at [3.0, 3.0, 0.85] reaches none of the 4 actions")
+    _one_line_error(capsys, code, "robots.robot.base: the robot base at xy=(3.0, 3.0) is not over its "
+                                  "support side_table")
+    code = main(["run", "multi-subject", "--subjects", "1", "--reps", "1", "--mode", "r-only", "--jobs", "1",
+                 "--quiet", *FAR_ROBOT, "--out", str(out)])
+    _one_line_error(capsys, code, "robot 'robot' at [0.94, -0.5, 0.9] reaches none of the 4 actions")
     assert not out.exists()
+
+
+FAR_ROBOT = ["--set", "scene.robot_base=0.94,-0.5,0.9", "--set", "scene.robots.robot.support=bench"]
+"""The Panda on the bench's far right corner: every piece and the handover pose are out of its reach."""
 
 
 def test_failed_robot_attempts_do_not_count_as_robot_actions(tmp_path):
@@ -125,7 +135,8 @@ def test_failed_robot_attempts_do_not_count_as_robot_actions(tmp_path):
     from ergosim.twin.summary_text import summary_text  # noqa: PLC0415
 
     scenario = load_scenario("multi-subject", {"subjects": "1", "repetitions": "1", "modes": "r-only",
-                                               "scene.robot_base": "3,3,0.85"})
+                                               "scene.robot_base": "0.94,-0.5,0.9",
+                                               "scene.robots.robot.support": "bench"})
     out = tmp_path / "far"
     result = run_scenario(scenario, seed=0, out=out, jobs=1, progress=False)
     assert result.status == "abandoned"
@@ -359,7 +370,9 @@ def test_ee_speed_is_bounded_by_the_panda(capsys, tmp_path):
     from ergosim.overrides import apply_overrides  # noqa: PLC0415
     from ergosim.twin.scenariofile import scenario_config  # noqa: PLC0415
 
-    assert apply_overrides(scenario_config("kwear-validation"), {"ee_speed": "1.7"}).ee_speed == 1.7
+    # the bound itself is allowed; contact-critical motion may not outrun the transits (transit_speed)
+    fast = apply_overrides(scenario_config("kwear-validation"), {"ee_speed": "1.7", "transit_speed": "1.7"})
+    assert (fast.ee_speed, fast.transit_speed) == (1.7, 1.7)
 
 
 # -- 11. interruption ------------------------------------------------------------------------------------

@@ -8,7 +8,7 @@ import ergosim.robot as robot_pkg
 from ergosim.robot import PandaKinematics
 from ergosim.robot.skills import SkillParams, handover, pick_place
 from ergosim.robot.status import SkillStatus
-from ergosim.robot.trajectory import MotionLimits, Pose, segment_trajectory
+from ergosim.robot.trajectory import CONTACT_SPEED, TRANSIT_SPEED, MotionLimits, Pose, segment_trajectory
 from ergosim.scenes import build_scene
 
 
@@ -71,7 +71,12 @@ def test_pick_place_puts_j_in_the_assembly_area(kwear, kin):
     assert abs(wc.data.qvel[wc.model.joint("J").dofadr[0] + 2]) < 0.05
     np.testing.assert_allclose(wc.data.qpos[:7], robot_pkg.HOME_QPOS, atol=0.01)  # back home
     assert wc.data.ctrl[7] == pytest.approx(0.04)  # gripper open again
-    assert 20 < res.duration < 200
+    # Timing (the physics since the two-speed robot): four contact-critical zones of ~3.5 cm at 0.05 m/s,
+    # the rest a transit at 0.25 m/s; at 0.05 m/s throughout this pick-and-place took 73 s.
+    assert 15 < res.duration < 30
+    assert sum(t for _, t in res.phases) == pytest.approx(res.duration)
+    assert res.phase("contact") >= 4 * skill.zone / 0.05
+    assert res.phase("transit") > res.phase("contact") and res.phase("wait") == 0.0
 
 
 def test_the_gripper_holds_a_part_by_the_weld_without_squeezing_it(kwear, kin):
@@ -179,3 +184,89 @@ def test_part_knocked_out_of_the_gripper_gives_dropped(kwear, kin):
             mujoco.mj_forward(m, d)
     assert res is not None and res.status is SkillStatus.DROPPED, res
     assert "L" in res.message
+
+
+def _execute(wc, skill, kin, pose_human: bool = False):
+    """Step ``skill`` to completion; per physics step: the commanded TCP (pinocchio FK of the joint targets,
+    world frame), the MuJoCo TCP site, and the skill's phase."""
+    m, d = wc.model, wc.data
+    tcp = m.site("panda_tcp").id
+    cmd, act, phase = [], [], []
+    still = wc.human.home_deg if pose_human else None
+    while (res := skill.step(d)) is None:
+        if still is not None:
+            wc.human.set_angles(d, still)
+        mujoco.mj_step(m, d)
+        cmd.append(d.ctrl[:7].copy())
+        act.append(d.site_xpos[tcp].copy())
+        phase.append(skill.phase)
+    base = skill.base
+    cmd_tcp = np.array([base.rot @ kin.fk(q)[0] + base.pos for q in cmd])
+    return res, cmd_tcp, np.array(act), np.array(phase), float(m.opt.timestep)
+
+
+def _check_speeds(res, skill, cmd, act, phase, dt):
+    """Contact-critical motion at 0.05 m/s, transits (and the way home) at 0.25 m/s: the commanded TCP
+    within 2-3 % of the caps, the MuJoCo TCP within its tracking error (a position servo lags ~20 ms, so it
+    enters a contact zone still braking: the check is where a touch is possible, within the zone less its
+    margin of the points where the gripper closes, opens or waits)."""
+    v_cmd = np.linalg.norm(np.diff(cmd, axis=0), axis=1) / dt
+    v_act = np.linalg.norm(np.diff(act, axis=0), axis=1) / dt
+    ph = phase[1:]
+    contact, transit = ph == "contact", np.isin(ph, ["transit", "home"])
+    assert contact.sum() * dt >= 4 * skill.zone / CONTACT_SPEED * 0.95
+    assert v_cmd[contact].max() <= CONTACT_SPEED * 1.02
+    assert v_cmd[transit].max() <= TRANSIT_SPEED * 1.03
+    assert v_act[transit].max() <= TRANSIT_SPEED * 1.10
+    assert v_act[transit].max() >= TRANSIT_SPEED * 0.9  # the transits do run at the transit speed
+    # where the hand stops at a part: the grasp, the place or the handover pose
+    stops = [act[i] for i in range(1, len(phase))
+             if phase[i] in ("gripper", "wait") and phase[i - 1] == "contact"]
+    assert len(stops) == 2
+    touch = skill.zone - skill.params.contact_margin
+    moving = np.isin(ph, ["contact", "transit", "home"])
+    for x in stops:
+        near = moving & (np.linalg.norm(act[1:] - x, axis=1) < touch)
+        assert near.sum() * dt > 2 * touch / CONTACT_SPEED * 0.9  # in and out
+        assert v_act[near].max() <= CONTACT_SPEED * 1.08
+    assert sum(t for _, t in res.phases) == pytest.approx(res.duration)
+    for name, _ in res.phases:
+        assert res.phase(name) == pytest.approx(np.sum(phase == name) * dt, abs=2 * dt)
+
+
+def test_handover_runs_contact_zones_slow_and_transits_at_the_reduced_speed(multi, kin):
+    wc = multi
+    wc.reset()
+    pos, quat = wc.site_pose("handover")
+    t0 = wc.data.time
+    taken = {}
+
+    def worker_takes(w):
+        if np.linalg.norm(w.body_pose("S1")[0] - pos) < 0.005:
+            w.grasp("human_right", "S1")
+            taken.setdefault("t", w.data.time - t0)
+            return True
+        return False
+
+    skill = handover(wc, "S1", pos, quat, worker_takes, kin=kin)
+    res, cmd, act, phase, dt = _execute(wc, skill, kin, pose_human=True)
+    assert res.status is SkillStatus.OK, res.message
+    _check_speeds(res, skill, cmd, act, phase, dt)
+    # the zone: fingertips 9.5 mm past the TCP, 15 mm of profile above its grasp, 1 cm of margin
+    assert skill.zone == pytest.approx(0.0345, abs=0.002)
+    # reach, grasp and carry to the handover pose take about 9 s (39 s at 0.05 m/s throughout)
+    assert 6.0 < taken["t"] < 12.0
+    wc.release("human_right", "S1")
+
+
+def test_insertion_runs_its_whole_stroke_at_the_contact_speed(kwear, kin):
+    wc = kwear
+    wc.reset()
+    pos, quat = wc.site_pose(wc.actions["a2"].target)  # the upper hollow of J
+    skill = pick_place(wc, "L", pos, quat, approach=_mat(quat)[:, 2], seat=True, kin=kin)
+    res, cmd, act, phase, dt = _execute(wc, skill, kin)
+    assert res.status is SkillStatus.OK, res.message
+    _check_speeds(res, skill, cmd, act, phase, dt)
+    stroke = skill.params.insert_approach
+    # the insertion (in) and the retreat along the hollow's axis (out) at 0.05 m/s, besides the grasp zones
+    assert res.phase("contact") >= (2 * stroke + 2 * skill.zone) / CONTACT_SPEED

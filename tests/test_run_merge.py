@@ -18,7 +18,8 @@ from ergosim.twin.subject_records import RunRecord, SubjectRecord, read_records,
 RUN = ["run", "multi-subject", "--subjects", "3", "--reps", "1", "--jobs", "1", "--quiet", "--set",
        "eta_max=2"]
 SAME = ("summary.json", "subject_records.json", "allocations.csv", "failures.csv", "ticks.csv",
-        "allocation_histogram.png", "kwear_a1.png", "kwear_timeline_hrc.png", "kwear_state_s2_h-only.json")
+        "subjects.csv", "kwear_actions.csv", "allocation_histogram.png", "kwear_a1.png", "kwear_actions.png",
+        "kwear_modes.png", "kwear_timeline_hrc.png", "kwear_state_s2_h-only.json")
 
 
 @pytest.fixture(scope="module")

@@ -28,10 +28,12 @@ ROOT = Path(__file__).resolve().parents[1]
 
 @pytest.fixture(scope="module")
 def forced_run(tmp_path_factory):
-    """The issue's first example, shortened: L moved out of the worker's reach (l_xy=0.14,0.88)."""
+    """The issue's first example, shortened: L moved out of the worker's reach (l_xy=0.14,0.88). The robot's
+    hyper-arcs cost 50 (the §7.1 figure) so that the planner offers every action to the worker first and
+    each repetition's a2 is a worker failure then a forced robot action, whatever the robot's timing."""
     out = tmp_path_factory.mktemp("forced") / "out"
     code = main(["run", "multi-subject", "--subjects", "1", "--reps", "2", "--mode", "hrc", "--jobs", "1",
-                 "--quiet", "--set", "scene.l_xy=0.14,0.88", "--out", str(out)])
+                 "--quiet", "--set", "scene.l_xy=0.14,0.88", "--set", "robot_cost=50", "--out", str(out)])
     return code, out
 
 

@@ -29,6 +29,7 @@ def test_blueprint_has_the_panels_of_issue_7(tmp_path):
         for column, out in (("ViewBlueprint:display_name", names), ("ViewBlueprint:space_origin", origins)):
             if column in batch.schema.names:
                 out.extend(row[0] for row in batch.column(batch.schema.names.index(column)).to_pylist())
-    assert sorted(names) == sorted(["Workcell", "KWear V(t) and V_th", "RULA", "Joint angles [deg]",
-                                    "Allocations", "Predicted KWear V̂", "Hyper-arc costs"])
+    assert sorted(names) == sorted(["Workcell", "KWear V(t) and V_th", "RULA", "Arm angles [deg]",
+                                    "Trunk & neck angles [deg]", "Decisions and failures",
+                                    "Predicted KWear V̂", "Hyper-arc costs"])
     assert {"world", "ergonomics/rula", "ergonomics/angles", "allocation/log"} <= set(origins)

@@ -10,7 +10,7 @@ from worker_scene import PointScene
 
 from ergosim.human import HumanModel
 from ergosim.posture import HUMAN_JOINTS
-from ergosim.worker import Subject, Worker, fitts_duration, interpolate_keyframes, make_subject, min_jerk
+from ergosim.worker import Subject, Worker, interpolate_keyframes, make_subject, min_jerk
 
 IDX = {n: i for i, n in enumerate(HUMAN_JOINTS)}
 GEOM = SimpleNamespace(action="a", part="part", kind="insert", target="target")
@@ -92,9 +92,7 @@ def test_same_seed_same_motion(worker):
     assert not np.array_equal(a.angles, c.angles)
 
 
-def test_fitts_and_min_jerk():
-    assert fitts_duration(0.6) > fitts_duration(0.2) > fitts_duration(0.02)
-    assert fitts_duration(0.5, speed=2.0) == pytest.approx(fitts_duration(0.5) / 2)
+def test_min_jerk():
     tau = np.linspace(0, 1, 101)
     s = min_jerk(tau)
     assert s[0] == 0 and s[-1] == pytest.approx(1) and s[50] == pytest.approx(0.5)

@@ -13,6 +13,8 @@ import os
 import sys
 from pathlib import Path
 
+from ergosim.commands.plot import add_plot_subject_argument, parse_subjects
+from ergosim.commands.video_options import add_video_arguments, check_can_render, video_line, video_request
 from ergosim.errors import ConfigError, ErgosimError
 from ergosim.overrides import parse_assignments
 
@@ -49,9 +51,13 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument("--connect", nargs="?", const="default", metavar="URL",
                    help="stream to a running rerun viewer (default URL if none given)")
     p.add_argument("--set", dest="assign", action="append", default=[], metavar="KEY=VALUE",
-                   help="override a protocol field (e.g. takt=40) or a workcell field by its dotted path "
-                        "or alias (e.g. scene.shelf_height=1.6, scene.parts.L.xy=0.2,0.8)")
+                   help="override any field by its dotted path: the protocol (takt=40), the workcell "
+                        "(scene.shelf_height=1.6, scene.parts.L.xy=0.2,0.8), the task "
+                        "(task.agents.robot.cost=3), or the task or workcell itself (workcell=FILE); "
+                        "docs/workcell_format.md")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_plot_subject_argument(p)
+    add_video_arguments(p, mode_names())
     return p
 
 
@@ -106,12 +112,23 @@ def subject_range(text: str | None, n: int) -> range:
     return range(a, b)
 
 
+def _in_shard(subjects: range, n: int, **chosen) -> None:
+    """``--plot-subject`` and ``--video-subject`` name subjects of the shard ``--subject-range`` runs."""
+    if len(subjects) == n:
+        return
+    for option, value in chosen.items():
+        wanted = [value] if isinstance(value, int) else list(value or ())
+        outside = [s for s in wanted if s not in subjects]
+        if outside:
+            raise ConfigError(f"subject {outside[0]} is not in the shard {subjects.start}:{subjects.stop} "
+                              "(--subject-range)", where=f"--{option.replace('_', '-')}")
+
+
 def _precheck(scenario) -> None:
     """Refuse a run certain to fail before any subject starts (reachability of every action)."""
-    from ergosim.scenes import build_cell  # noqa: PLC0415
-    from ergosim.twin.scenario_check import check_reachability  # noqa: PLC0415
+    from ergosim.twin.scenario_check import precheck  # noqa: PLC0415
 
-    check_reachability(scenario, scenario.task(), build_cell(scenario.cell()))
+    precheck(scenario)
 
 
 def run(args) -> int:
@@ -124,7 +141,16 @@ def run(args) -> int:
     out = Path(args.out) if args.out else Path("results") / scenario.name
     if out.exists() and not out.is_dir():  # before a viewer is spawned; run_scenario checks the rest
         raise ConfigError(f"{out} exists and is not a directory", where="--out")
+    video = video_request(args, scenario)
+    plot_subjects = parse_subjects(args.plot_subject)
+    if plot_subjects and max(plot_subjects) >= cfg.subjects:
+        raise ConfigError(f"must be subject indices in 0..{cfg.subjects - 1}, got {args.plot_subject}",
+                          where="--plot-subject")
+    _in_shard(subjects, cfg.subjects, plot_subjects=plot_subjects,
+              video=None if video is None else video.subject)
     _precheck(scenario)
+    if video is not None:
+        check_can_render()
     recorder = open_recording(rrd=args.rrd, spawn=args.spawn, connect=args.connect,
                               recording_name=f"ergosim {args.scenario} seed {args.seed}")
     committed = False
@@ -132,7 +158,8 @@ def run(args) -> int:
         result = run_scenario(scenario, seed=args.seed, out=out, jobs=args.jobs or os.cpu_count(),
                               progress=not args.quiet, recorder=recorder,
                               record_subject=args.rrd_subject if args.rrd_subject is not None
-                              else subjects.start, record_mode=args.rrd_mode, subjects=subjects)
+                              else subjects.start, record_mode=args.rrd_mode, video=video,
+                              plot_subjects=plot_subjects, subjects=subjects)
         committed = True
     finally:
         try:
@@ -144,9 +171,11 @@ def run(args) -> int:
             raise err from None
     print(summary_text(result.summary, cfg))
     print(f"\nresults: {out.resolve()} (run.json, summary.json, allocations.csv, failures.csv, ticks.csv, "
-          "kwear_state_*.json, *.png)")
+          "subjects.csv, kwear_actions.csv, kwear_state_*.json, *.png)")
     if args.rrd:
         print(f"recording: {Path(args.rrd).resolve()}  (open it with: rerun {args.rrd})")
+    if result.video is not None:
+        print(video_line(result.video, video))
     print(f"wall time {result.wall:.1f} s", file=sys.stderr)
     if result.status == "abandoned":
         n = result.summary.get("repetitions_abandoned", 0)

@@ -38,6 +38,7 @@ from ergosim.ergonomics.rula import (
     table_b,
     table_c,
 )
+from ergosim.ergonomics.rula_action import action_grand_score, most_loaded_joint
 
 __all__ = [
     # RULA
@@ -51,6 +52,8 @@ __all__ = [
     "table_c",
     "action_level",
     "part_scores",
+    "action_grand_score",
+    "most_loaded_joint",
     # KWear
     "KWearParams",
     "V_CEIL",

@@ -19,6 +19,7 @@ import numpy as np
 
 from ergosim.ergonomics.kwear import KWearParams, alpha_of
 from ergosim.ergonomics.rula import part_scores, rula
+from ergosim.ergonomics.rula_action import action_grand_score
 from ergosim.errors import ConfigError, RecordingError
 from ergosim.posture import KWEAR_JOINTS, array_to_posture
 
@@ -60,7 +61,8 @@ class ActionCalibration:
 
     ``alpha``: mean coefficient (eq. 9); ``alphas``: per execution; ``errors``: |V_hat - V_l| of each
     execution with the final mean; ``converged``: every error < ``v_des`` (else eta_max was reached);
-    ``rula_grand``: G(a_k) for the static RULA baseline (NaN if no grand scores were given);
+    ``rula_grand``: G(a_k), the grand score held longest (:mod:`ergosim.ergonomics.rula_action`), for the
+    static RULA baseline (NaN if no grand scores were given);
     ``duration``: mean execution time [s]; ``dropouts``: non-finite rows over all executions.
     """
 
@@ -123,13 +125,13 @@ def _check(ex, action: str, run: int) -> tuple[np.ndarray, np.ndarray, np.ndarra
 
 
 def calibrate_action(execute: Callable[[int], Execution | tuple], params: KWearParams = KWearParams(), *,
-                     v_des: float = 1e-3, eta0: int = 2, eta_max: int = 10, action: str = "",
-                     grand_percentile: float = 95.0) -> ActionCalibration:
+                     v_des: float = 1e-3, eta0: int = 2, eta_max: int = 10,
+                     action: str = "") -> ActionCalibration:
     """Adaptive-eta calibration of one action (paper §5).
 
     execute(l) -> (g (n, 5), dt[, grand (n,)]) records execution l = 0, 1, ... from zero wear.
     v_des: target maximum prediction error Ṽ_des; eta0 >= 2 initial executions; eta_max the cap.
-    grand_percentile: G(a_k) is this percentile (an observed score) of the pooled valid grand scores.
+    G(a_k) is :func:`~ergosim.ergonomics.rula_action.action_grand_score` of the executions' grand scores.
     """
     if not (isinstance(eta0, int) and eta0 >= 2 and isinstance(eta_max, int) and eta_max >= eta0):
         raise ConfigError(f"need integers eta0 >= 2 and eta_max >= eta0, got eta0={eta0}, eta_max={eta_max}",
@@ -154,8 +156,7 @@ def calibrate_action(execute: Callable[[int], Execution | tuple], params: KWearP
         converged = bool(np.all(errors < v_des))
         if converged or len(a) >= eta_max:
             break
-    pooled = np.concatenate(grands) if grands else np.empty(0)
-    g_rula = float(np.percentile(pooled, grand_percentile, method="higher")) if pooled.size else np.nan
+    g_rula = action_grand_score(grands)
     return ActionCalibration(action, mean, len(a), a, errors, converged, float(v_des), g_rula,
                              float(np.mean(durations)), dropouts)
 

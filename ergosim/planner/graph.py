@@ -144,7 +144,8 @@ class AndOrGraph:
     def _build_actions(self, actions: Sequence[str] | None) -> None:
         used = dict.fromkeys(op.action for op in self.operations)
         order = list(actions) if actions is not None else list(used)
-        missing = [a for a in used if a not in order]
+        listed = set(order)  # a set: the reader stays linear in the operations (scripts/bench_taskfile.py)
+        missing = [a for a in used if a not in listed]
         self.actions = tuple(a for a in order if a in used) + tuple(missing)
 
     def _index_keys(self) -> dict[tuple[str, str], np.ndarray]:

@@ -15,16 +15,23 @@ from ergosim.robot.mjcf import (
 )
 from ergosim.robot.model import compile_spec, load_mjcf, panda_mjcf_text, panda_spec
 from ergosim.robot.skills import Handover, PickPlace, Skill, SkillParams, handover, pick_place
-from ergosim.robot.status import SkillResult, SkillStatus
+from ergosim.robot.status import SKILL_PHASES, SkillResult, SkillStatus
+from ergosim.robot.time_scaling import speed_profile, trapezoid
 from ergosim.robot.trajectory import (
+    CONTACT_SPEED,
+    PANDA_MAX_ROTATION,
+    PANDA_MAX_ROTATION_ACCEL,
+    SEGMENT_KINDS,
+    TRANSIT_SPEED,
     BaseFrame,
     MotionLimits,
     PathError,
     Pose,
+    SpeedLimit,
     joint_trajectory,
+    line_trajectory,
     segment_trajectory,
     transit_trajectory,
-    trapezoid,
 )
 from ergosim.robot.urdf import Urdf, read_urdf
 
@@ -55,15 +62,24 @@ __all__ = [
     "SkillParams",
     "handover",
     "pick_place",
+    "SKILL_PHASES",
     "SkillResult",
     "SkillStatus",
+    "CONTACT_SPEED",
+    "PANDA_MAX_ROTATION",
+    "PANDA_MAX_ROTATION_ACCEL",
+    "SEGMENT_KINDS",
+    "TRANSIT_SPEED",
+    "SpeedLimit",
     "BaseFrame",
     "MotionLimits",
     "PathError",
     "Pose",
     "joint_trajectory",
+    "line_trajectory",
     "segment_trajectory",
     "transit_trajectory",
+    "speed_profile",
     "trapezoid",
     "Urdf",
     "read_urdf",

@@ -5,7 +5,13 @@ from __future__ import annotations
 from dataclasses import dataclass
 from enum import Enum
 
-__all__ = ["SkillStatus", "SkillResult"]
+__all__ = ["SKILL_PHASES", "SkillStatus", "SkillResult"]
+
+SKILL_PHASES = ("transit", "contact", "gripper", "wait", "home")
+"""What a skill's time is spent on: ``transit`` free-space motion; ``contact`` contact-critical motion
+(approach, lift-off, place or insertion, retreat) and holding the part at its target; ``gripper`` closing,
+opening and the settling pauses; ``wait`` holding the part at the handover pose until the worker takes it;
+``home`` the return to the ready pose."""
 
 
 class SkillStatus(Enum):
@@ -17,7 +23,8 @@ class SkillStatus(Enum):
     DROPPED = "dropped"
     """The part left the gripper while carried."""
     NOT_SEATED = "not_seated"
-    """An inserted profile ended outside the seat tolerance of its hollow."""
+    """An inserted part ended outside the seat tolerance of its slot, or a part handed over outside the
+    receiver's tolerance of the handover pose."""
     TIMEOUT = "timeout"
     """A handover nobody took within the allowed time."""
 
@@ -25,7 +32,10 @@ class SkillStatus(Enum):
 @dataclass(frozen=True)
 class SkillResult:
     """``duration`` [s] of simulated time from the first step; ``place_error`` [m] of the part's origin to
-    its target after release (NaN if it never got there)."""
+    its target after release (NaN if it never got there); ``phases``: (phase, seconds) for each of
+    :data:`SKILL_PHASES`, summing to ``duration``; ``arrival`` [s from the first step]: when the part had
+    reached its target pose (place, insertion or handover pose) and the arm had settled there (NaN if it
+    never did)."""
 
     skill: str
     part: str
@@ -33,6 +43,12 @@ class SkillResult:
     message: str
     duration: float
     place_error: float = float("nan")
+    phases: tuple[tuple[str, float], ...] = ()
+    arrival: float = float("nan")
+
+    def phase(self, name: str) -> float:
+        """Seconds spent in phase ``name`` (0 if none)."""
+        return sum(t for n, t in self.phases if n == name)
 
     @property
     def ok(self) -> bool:

@@ -17,11 +17,12 @@ import numpy as np
 from ergosim.human.mjcf import HOME_POSTURE
 from ergosim.human.mocap import add_mocap_segments
 from ergosim.human.model import HAND_SITES, ROOT_BODY, HumanModel, human_spec
+from ergosim.robot.handle import PandaHandle
 from ergosim.robot.mjcf import HOME_QPOS
 from ergosim.robot.model import compile_spec, panda_spec
 from ergosim.scenes.cellspec import Surface, Worker
 
-__all__ = ["weld_name", "seat_name", "yaw_quat", "new_spec", "add_table", "add_box",
+__all__ = ["weld_name", "seat_name", "receive_name", "yaw_quat", "new_spec", "add_table", "add_box",
            "attach_panda", "attach_human", "add_welds", "human_hand_bodies", "finish"]
 
 WOOD = (0.72, 0.6, 0.45, 1.0)
@@ -34,6 +35,11 @@ def weld_name(holder: str, part: str) -> str:
 
 def seat_name(part: str) -> str:
     return f"seat_{part}"
+
+
+def receive_name(part: str) -> str:
+    """The weld by which a receiver outside the cell holds ``part`` (the handover kind)."""
+    return f"receive_{part}"
 
 
 def yaw_quat(yaw_deg: float) -> list[float]:
@@ -106,20 +112,21 @@ def add_table(spec: mujoco.MjSpec, surface: Surface, thickness: float = 0.04, le
 
 
 def attach_panda(spec: mujoco.MjSpec, base, yaw: float, timestep: float,
-                 support_height: float | None = None) -> None:
+                 support_height: float | None = None, prefix: str = "") -> None:
     """The Panda's ``panda_link0`` at ``base`` (3,) [m] turned by ``yaw`` [deg]; a pedestal fills any gap down
-    to ``support_height`` [m]."""
+    to ``support_height`` [m]. ``prefix`` goes before every name of this Panda (a cell's second robot:
+    ``robot2.``; the first keeps the MJCF's names, :func:`~ergosim.robot.handle.robot_prefix`)."""
     x, y, z = base
     if support_height is not None and z - support_height > 0.005:
         half = (z - support_height) / 2
-        add_box(spec, "robot_pedestal", (x - 0.04, y, support_height + half), (0.13, 0.11, half))
-    frame = spec.worldbody.add_frame(name="robot_base", pos=list(base), quat=yaw_quat(yaw))
+        add_box(spec, f"{prefix}robot_pedestal", (x - 0.04, y, support_height + half), (0.13, 0.11, half))
+    frame = spec.worldbody.add_frame(name=f"{prefix}robot_base", pos=list(base), quat=yaw_quat(yaw))
     panda = panda_spec()
     panda.option.timestep = timestep  # the scene's options win; equal values avoid a conflict notice
     with _quiet_attach():
-        frame.attach_body(panda.body("panda_link0"), "", "")
+        frame.attach_body(panda.body("panda_link0"), prefix, "")
     # the first link turns just above its mount: its hull would only ever graze the support it stands on
-    spec.add_exclude(bodyname1="world", bodyname2="panda_link1")
+    spec.add_exclude(bodyname1="world", bodyname2=f"{prefix}panda_link1")
 
 
 def attach_human(spec: mujoco.MjSpec, worker: Worker) -> mujoco.MjModel:
@@ -143,9 +150,10 @@ def attach_human(spec: mujoco.MjSpec, worker: Worker) -> mujoco.MjModel:
     return kin
 
 
-def add_welds(spec: mujoco.MjSpec, hand_bodies: dict[str, str], parts, seats) -> None:
+def add_welds(spec: mujoco.MjSpec, hand_bodies: dict[str, str], parts, seats, received=()) -> None:
     """Inactive welds holder -> part for every holder in ``hand_bodies`` and every part in ``parts``, then
-    host -> part for every ``(host, part)`` of ``seats`` (a part seated in its slot)."""
+    host -> part for every ``(host, part)`` of ``seats`` (a part seated in its slot), then world -> part for
+    every part in ``received`` (taken by a receiver outside the cell)."""
     weld = dict(type=mujoco.mjtEq.mjEQ_WELD, objtype=mujoco.mjtObj.mjOBJ_BODY, active=False,
                 solref=[0.005, 1.0], solimp=[0.99, 0.999, 0.001, 0.5, 2])
     for holder, body in hand_bodies.items():
@@ -153,6 +161,8 @@ def add_welds(spec: mujoco.MjSpec, hand_bodies: dict[str, str], parts, seats) ->
             spec.add_equality(name=weld_name(holder, part), name1=body, name2=part, **weld)
     for host, part in seats:
         spec.add_equality(name=seat_name(part), name1=host, name2=part, **weld)
+    for part in received:
+        spec.add_equality(name=receive_name(part), name1="world", name2=part, **weld)
 
 
 def human_hand_bodies(spec: mujoco.MjSpec) -> dict[str, str]:
@@ -164,22 +174,22 @@ def human_hand_bodies(spec: mujoco.MjSpec) -> dict[str, str]:
     return out
 
 
-def finish(spec: mujoco.MjSpec, where: str, has_robot: bool = True) -> mujoco.MjModel:
-    """Replace attached keyframes by one ``home`` (robot ready, fingers open, parts laid out; the human's
-    mocap segments keep their home posture) and compile."""
+def finish(spec: mujoco.MjSpec, where: str, robots: tuple[tuple[str, str], ...] = ()) -> mujoco.MjModel:
+    """Replace attached keyframes by one ``home`` (every robot of ``robots``, (name, prefix) pairs, ready with
+    its fingers open; parts laid out; the human's mocap segments keep their home posture) and compile."""
     for key in list(spec.keys):
         spec.delete(key)
     with _quiet_attach():
         model = compile_spec(spec, where=where)
     qpos = model.qpos0.copy()
     ctrl = np.zeros(model.nu)
-    if has_robot:
-        arm = [model.joint(f"panda_joint{i}").qposadr[0] for i in range(1, 8)]
-        qpos[arm] = HOME_QPOS
-        for j in ("panda_finger_joint1", "panda_finger_joint2"):
-            qpos[model.joint(j).qposadr[0]] = model.jnt_range[model.joint(j).id][1]
-        ctrl[:7] = HOME_QPOS
-        ctrl[7] = model.actuator_ctrlrange[7, 1]
+    for name, prefix in robots:
+        robot = PandaHandle.find(model, name, prefix)
+        qpos[robot.arm_qpos] = HOME_QPOS
+        for adr, j in zip(robot.finger_qpos, robot.finger_joints, strict=True):
+            qpos[adr] = model.jnt_range[j][1]
+        ctrl[robot.arm_ctrl] = HOME_QPOS
+        ctrl[robot.grip_ctrl] = robot.gripper_open(model)
     spec.add_key(name="home", qpos=qpos.tolist(), ctrl=ctrl.tolist())
     with _quiet_attach():
         return compile_spec(spec, where=where)

@@ -2,15 +2,19 @@
 
 Build order (it fixes body, geom and constraint order, and so the physics): furniture in file order, the
 robots, the human, the parts in file order, the slots' seat sites, the targets' sites, the welds (holders
-× parts, then one seat per inserted part in action order), the ``home`` keyframe.
+× parts, then one seat per inserted part in action order, then one receiver weld per part handed over),
+the ``home`` keyframe.
 """
 
 from __future__ import annotations
 
 import mujoco
 
+from ergosim.robot.handle import robot_prefix
 from ergosim.scenes import build
+from ergosim.scenes.action_kinds import action_kind
 from ergosim.scenes.cellspec import Box, CellSpec, Shelf, Table, quat_axis_to, rpy_quat, yaw_quat
+from ergosim.scenes.clearance import check_clearance
 from ergosim.scenes.shapes import add_part_body
 from ergosim.scenes.workcell import ActionGeometry, Workcell
 
@@ -26,7 +30,7 @@ def action_geometry(spec: CellSpec) -> dict[str, ActionGeometry]:
     slots = spec.slots()
     out = {}
     for a in spec.actions:
-        if a.kind in ("insert", "fasten"):
+        if action_kind(a.kind).seats:
             target = seat_site(slots[a.target].host, a.part)
         else:
             target = a.target
@@ -74,10 +78,11 @@ def build_cell(spec: CellSpec) -> Workcell:
     _furniture(m, spec)
     surfaces = spec.surfaces()
     hands: dict[str, str] = {}
-    for r in spec.robots:
+    prefixes = tuple((r.name, robot_prefix(i, r.name)) for i, r in enumerate(spec.robots))
+    for r, (_, prefix) in zip(spec.robots, prefixes, strict=True):
         support = surfaces[r.support].height if r.support is not None else None
-        build.attach_panda(m, r.base, r.yaw, spec.timestep, support_height=support)
-        hands[r.name] = "panda_hand"
+        build.attach_panda(m, r.base, r.yaw, spec.timestep, support_height=support, prefix=prefix)
+        hands[r.name] = f"{prefix}panda_hand"
     human = build.attach_human(m, spec.worker)
     hands.update(build.human_hand_bodies(m))
     bodies = {}
@@ -88,7 +93,7 @@ def build_cell(spec: CellSpec) -> Workcell:
     slots = spec.slots()
     seats = []
     for a in spec.actions:
-        if a.kind not in ("insert", "fasten"):
+        if not action_kind(a.kind).seats:
             continue
         slot = slots[a.target]
         part = spec.part(a.part)
@@ -105,6 +110,9 @@ def build_cell(spec: CellSpec) -> Workcell:
     # insertion is a weld within tolerance (Workcell.seat), not a contact simulation of the fit
     for host, part in seats:
         m.add_exclude(bodyname1=host, bodyname2=part)
-    build.add_welds(m, hands, [p.name for p in spec.parts], seats)
-    model = build.finish(m, where=spec.source, has_robot=bool(spec.robots))
-    return Workcell(spec, model, action_geometry(spec), hands, human=human)
+    received = list(dict.fromkeys(a.part for a in spec.actions if action_kind(a.kind).received))
+    build.add_welds(m, hands, [p.name for p in spec.parts], seats, received)
+    model = build.finish(m, where=spec.source, robots=prefixes)
+    cell = Workcell(spec, model, action_geometry(spec), hands, human=human)
+    check_clearance(spec, cell.model, cell.data)  # nothing starts inside furniture (at the home keyframe)
+    return cell

@@ -51,7 +51,8 @@ _TOP = {"name": "str", "description": "str", "timestep": "float", "seat_toleranc
         "seat_tolerance_deg": "float", "place_tolerance": "float", "carry_height": "float",
         "grasp_tolerance": "float"}
 _TABLES = ("aliases", "worker", "robots", "furniture", "parts", "targets", "actions", "views")
-_WORKER = {"xy": ("floats", 2), "yaw": "float", "hand": "str", "stature": "float", "human_scale": "pairs"}
+_WORKER = {"name": "str", "xy": ("floats", 2), "yaw": "float", "hand": "str", "stature": "float",
+           "human_scale": "pairs"}
 _ROBOT = {"model": "str", "base": ("floats", 3), "yaw": "float", "support": "str"}
 _FURNITURE = {
     "table": {"type": "str", "center": ("floats", 2), "size": ("floats", 2), "height": "float",
@@ -171,6 +172,10 @@ def cell_keys(doc: Mapping[str, Any]) -> list[str]:
         for name, table in (doc.get(section) or {}).items():
             if isinstance(table, dict):
                 keys += [f"{section}.{name}.{k}" for k in schema_of(table) if k not in ("type", "slots")]
+    for name, table in (doc.get("parts") or {}).items():
+        for slot in (table.get("slots") or []) if isinstance(table, dict) else []:
+            if isinstance(slot, dict) and isinstance(slot.get("name"), str):
+                keys += [f"parts.{name}.slots.{slot['name']}.{k}" for k in _SLOT if k != "name"]
     return keys + sorted(doc.get("aliases") or {})
 
 
@@ -192,11 +197,21 @@ def apply_cell_overrides(doc: Mapping[str, Any], overrides: Mapping[str, Any], w
                                   f"as parts.<name>.xy)", where=where)
             node = out
             *head, last = path.split(".")
-            for k in head:
+            for i, k in enumerate(head):
+                if k == "slots" and i == 2:  # [[parts.P.slots]] is an array: a slot is named by its name
+                    node = next(s for s in node["slots"] if s.get("name") == head[3])
+                    break
                 node = node.setdefault(k, {})
             node[last] = _coerce(value, _kind_of(out, path), key, where) if isinstance(value, str) \
                 else value
+            for other in _EXCLUSIVE.get((head[0], last), ()) if head else ():
+                node.pop(other, None)  # a full pose replaces a resting placement, and the other way round
     return out
+
+
+_EXCLUSIVE = {("parts", "pos"): ("xy", "on"), ("parts", "xy"): ("pos", "rpy"),
+              ("parts", "on"): ("pos", "rpy"), ("targets", "pos"): ("xy", "on", "part")}
+"""Setting the first field of a placement by override drops the fields of the other kind of placement."""
 
 
 def _kind_of(doc: Mapping[str, Any], path: str) -> Any:
@@ -206,6 +221,8 @@ def _kind_of(doc: Mapping[str, Any], path: str) -> Any:
     if parts[0] == "worker":
         return _WORKER[parts[1]]
     section, name, key = parts[0], parts[1], parts[2]
+    if key == "slots":
+        return _SLOT[parts[4]]
     if section == "furniture":
         return _FURNITURE[doc["furniture"][name].get("type", "table")][key]
     schemas = {"robots": _ROBOT, "parts": _PART, "targets": _TARGET, "actions": _ACTION, "views": _VIEW}
@@ -399,9 +416,17 @@ def _check(spec: CellSpec, at) -> None:
         need(r.support is None or r.support in surfaces, f"{entry}.support",
              f"unknown surface {r.support!r}; surfaces: {', '.join(surfaces)}")
         if r.support is not None:
-            need(r.base[2] >= surfaces[r.support].height - 1e-6, f"{entry}.base",
-                 f"the robot base at z={r.base[2]} is below its support {r.support} "
-                 f"(top at {surfaces[r.support].height} m)")
+            top = surfaces[r.support]
+            need(r.base[2] >= top.height - 1e-6, f"{entry}.base",
+                 f"the robot base at z={r.base[2]} m is below the top of its support {r.support} "
+                 f"({top.height} m): it would stand inside it; raise the base or lower the {r.support}")
+            need(top.contains(r.base[:2]), f"{entry}.base",
+                 f"the robot base at xy={r.base[:2]} is not over its support {r.support} (centre "
+                 f"{top.center}, size {top.size})")
+        else:
+            need(abs(r.base[2]) <= 0.005, f"{entry}.base",
+                 f"the robot base at z={r.base[2]} m has nothing under it: give support = \"SURFACE\" (a "
+                 "pedestal fills the gap) or stand it on the floor (z = 0)")
         for f in spec.furniture:
             for c, h in f.boxes():
                 if np.all(np.abs(np.asarray(r.base) - c) < h - 1e-6):
@@ -484,24 +509,35 @@ def _check_actions(spec: CellSpec, at) -> None:
         if a.part not in parts:
             raise ConfigError(f"unknown part {a.part!r}; parts: {', '.join(sorted(parts))}",
                               where=at(f"{entry}.part"))
-        if a.kind in ("insert", "fasten"):
+        kind = ACTION_KINDS[a.kind]
+        if kind.target == "slot":
             if a.target not in slots:
                 raise ConfigError(f"unknown slot {a.target!r}; slots: {', '.join(slots) or 'none'}",
                                   where=at(f"{entry}.target"))
             if slots[a.target].host == a.part:
                 raise ConfigError(f"{a.part} cannot go into its own slot", where=at(f"{entry}.target"))
-        elif a.target not in targets:
-            raise ConfigError(f"unknown target {a.target!r}; targets: {', '.join(targets) or 'none'}",
-                              where=at(f"{entry}.target"))
+        else:
+            want = "free" if kind.target == "free" else "place"
+            of_kind = [n for n, t in targets.items() if t.kind == want]
+            if a.target not in targets:
+                raise ConfigError(f"unknown target {a.target!r}; targets: {', '.join(targets) or 'none'}",
+                                  where=at(f"{entry}.target"))
+            if targets[a.target].kind != want:
+                what = ("a free target (pos = [x, y, z])" if want == "free"
+                        else "a place target on a surface (on, xy, part)")
+                raise ConfigError(f"a {a.kind} action goes to {what}; {a.target!r} is not one (those are: "
+                                  f"{', '.join(of_kind) or 'none'})", where=at(f"{entry}.target"))
         if a.handover is not None and (a.handover not in targets or targets[a.handover].kind != "free"):
             raise ConfigError(f"unknown handover pose {a.handover!r}; free targets: "
                               f"{', '.join(n for n, t in targets.items() if t.kind == 'free') or 'none'}",
                               where=at(f"{entry}.handover"))
-        if a.kind == "fasten" and not a.turn_time > 0:
-            raise ConfigError("a fasten action needs turn_time > 0 s", where=at(f"{entry}.turn_time"))
-        if a.kind != "fasten" and a.turn_time:
-            raise ConfigError("turn_time belongs to fasten actions", where=at(f"{entry}.turn_time"))
-    seats = [a.part for a in spec.actions if a.kind in ("insert", "fasten")]
+        if kind.holds and not a.turn_time > 0:
+            raise ConfigError(f"a {a.kind} action needs turn_time > 0 s", where=at(f"{entry}.turn_time"))
+        if not kind.holds and a.turn_time:
+            raise ConfigError(f"turn_time belongs to actions that hold a seated part ("
+                              f"{', '.join(k for k, v in ACTION_KINDS.items() if v.holds)}), not to "
+                              f"{a.kind}", where=at(f"{entry}.turn_time"))
+    seats = [a.part for a in spec.actions if ACTION_KINDS[a.kind].seats]
     dup = {p for p in seats if seats.count(p) > 1}
     if dup:
         raise ConfigError(f"a part is inserted by one action only, got {sorted(dup)} twice",

@@ -14,13 +14,11 @@ from typing import Literal
 
 import numpy as np
 
+from ergosim.errors import ConfigError
+from ergosim.scenes.action_kinds import ACTION_KINDS
+
 __all__ = ["Surface", "Table", "Shelf", "Box", "Slot", "Part", "Target", "Worker", "Robot", "Action", "View",
            "CellSpec", "ACTION_KINDS", "SHAPES", "Furniture"]
-
-ACTION_KINDS = ("place", "insert", "fasten", "remove")
-"""place: the part onto a target; insert: along a slot's axis to its seat; fasten: insert, then hold and
-turn for ``turn_time`` (a screw); remove: the part's whole assembly onto a target (an outfeed). A handover
-is not a kind of its own: any action with a ``handover`` target is handed over by a robot that does it."""
 
 SHAPES = ("box", "cylinder", "mesh", "socket_block")
 
@@ -232,8 +230,10 @@ class Target:
 @dataclasses.dataclass(frozen=True)
 class Worker:
     """The worker's pelvis on the floor at ``xy`` [m], facing +x turned by ``yaw`` [deg]; ``hand``: the
-    dominant (acting) hand; ``stature`` [m] and ``human_scale`` ((segment, factor) pairs) build the body."""
+    dominant (acting) hand; ``stature`` [m] and ``human_scale`` ((segment, factor) pairs) build the body;
+    ``name``: the task's human agent this body is."""
 
+    name: str = "human"
     xy: tuple[float, float] = (0.0, 0.0)
     yaw: float = 0.0
     hand: Literal["right", "left"] = "right"
@@ -255,12 +255,14 @@ class Robot:
 
 @dataclasses.dataclass(frozen=True)
 class Action:
-    """The physical action of a task label. ``target``: a target name (place, remove) or a slot key
-    ``host.slot`` (insert, fasten); ``handover``: a free target where a robot doing the action hands the part
-    to the worker, who finishes it; ``turn_time`` [s]: how long a fastener is held and turned."""
+    """The physical action of a task label. ``kind``: one of :data:`ACTION_KINDS`
+    (:mod:`ergosim.scenes.action_kinds`); ``target``: a place target (place, remove), a slot key
+    ``host.slot`` (insert, fasten) or a free target (handover); ``handover``: a free target where a robot
+    doing the action hands the part to the worker, who finishes it; ``turn_time`` [s]: how long a fastener
+    is held and turned."""
 
     label: str
-    kind: Literal["place", "insert", "fasten", "remove"]
+    kind: str
     part: str
     target: str
     handover: str | None = None
@@ -317,9 +319,15 @@ class CellSpec:
         return max(under, key=lambda s: s.height) if under else None
 
     def view(self, name: str | None = None) -> View:
+        """The camera view ``name`` (the first one for None); an unknown name is a :class:`ConfigError`
+        that lists the cell's views."""
         if name is None:
             return self.views[0]
-        return next(v for v in self.views if v.name == name)
+        for v in self.views:
+            if v.name == name:
+                return v
+        raise ConfigError(f"unknown view {name!r}; the workcell {self.name!r} has: "
+                          f"{', '.join(v.name for v in self.views)}", where=f"{self.source}: [views]")
 
 
 def quat_axis_to(axis_from: str, axis: tuple[float, float, float]) -> np.ndarray:

@@ -13,6 +13,7 @@ from pathlib import Path
 from typing import Any
 
 from ergosim.errors import ConfigError
+from ergosim.plugins import note_caller
 from ergosim.scenes.cellbuild import build_cell
 from ergosim.scenes.cellfile import apply_cell_overrides, parse_cell, read_cell_file
 from ergosim.scenes.cellspec import CellSpec
@@ -26,6 +27,7 @@ _SCENES: dict[str, Path] = {}
 
 def register_scene(name: str, path: str | os.PathLike[str]) -> None:
     """Make the workcell file at ``path`` buildable by ``name``."""
+    note_caller()
     _SCENES[name] = Path(path)
 
 
@@ -54,12 +56,22 @@ def _source(path: Path) -> str:
 
 
 def cell_document(name_or_path: str | os.PathLike[str]) -> tuple[dict[str, Any], str]:
-    """The TOML document of a registered workcell or a workcell file, and its name for messages."""
+    """The TOML document of a registered workcell or a workcell file, and its name for messages. A part's
+    mesh ``file`` given relative to the workcell file is made absolute here, so the cell builds from
+    anywhere."""
     path = Path(name_or_path)
     if str(name_or_path).endswith(".toml") or path.is_file():
-        return read_cell_file(path), str(path)
+        return _meshes_from(read_cell_file(path), path.parent), str(path)
     path = scene_path(str(name_or_path))
-    return read_cell_file(path), _source(path)
+    return _meshes_from(read_cell_file(path), path.parent), _source(path)
+
+
+def _meshes_from(doc: dict[str, Any], folder: Path) -> dict[str, Any]:
+    for part in (doc.get("parts") or {}).values():
+        file = part.get("file") if isinstance(part, dict) else None
+        if isinstance(file, str) and not Path(file).is_absolute():
+            part["file"] = str(folder / file)
+    return doc
 
 
 def load_cell(name_or_path: str | os.PathLike[str], **overrides: Any) -> CellSpec:

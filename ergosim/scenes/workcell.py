@@ -8,14 +8,16 @@ ordinary free bodies that rest and fall under gravity.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Literal, NamedTuple
+from typing import NamedTuple
 
 import mujoco
 import numpy as np
 
 from ergosim.errors import ConfigError
 from ergosim.human.mocap import MocapHuman
-from ergosim.scenes.build import seat_name, weld_name
+from ergosim.robot.handle import PandaHandle, robot_prefix
+from ergosim.scenes.action_kinds import ActionKind, action_kind
+from ergosim.scenes.build import receive_name, seat_name, weld_name
 from ergosim.scenes.cellspec import CellSpec
 from ergosim.scenes.shapes import PART_COLLISION
 
@@ -26,22 +28,36 @@ __all__ = ["ActionGeometry", "SeatResult", "Workcell"]
 class ActionGeometry:
     """Where action ``action`` takes ``part``: the origin of ``part`` ends on site ``target``.
 
-    ``kind``: place | insert | fasten | remove (see :data:`~ergosim.scenes.cellspec.ACTION_KINDS`).
-    ``handover``: the site where a robot hands the part to the worker, else None (the robot finishes the
-    action itself). ``turn_time`` [s]: how long a fastener is held and turned once seated.
+    ``kind``: a registered kind (:mod:`ergosim.scenes.action_kinds`: place, insert, fasten, remove,
+    handover). ``handover``: the site where a robot hands the part to the worker, else None (the robot
+    finishes the action itself). ``turn_time`` [s]: how long a fastener is held and turned once seated.
     """
 
     action: str
     part: str
-    kind: Literal["place", "insert", "fasten", "remove"]
+    kind: str
     target: str
     handover: str | None = None
     turn_time: float = 0.0
 
     @property
+    def spec(self) -> ActionKind:
+        return action_kind(self.kind)
+
+    @property
     def seats(self) -> bool:
         """The action ends with the part seated in a slot (insert, fasten)."""
-        return self.kind in ("insert", "fasten")
+        return self.spec.seats
+
+    @property
+    def moves_assembly(self) -> bool:
+        """The part is taken with everything seated in it (remove, handover)."""
+        return self.spec.assembly
+
+    @property
+    def received(self) -> bool:
+        """The action ends with a receiver outside the cell holding the part (handover)."""
+        return self.spec.received
 
     @property
     def target_site(self) -> str:
@@ -87,16 +103,20 @@ class Workcell:
         self.home_key = model.keyframe("home").id
         self.parts = tuple(p.name for p in spec.parts)
         self.robots = tuple(r.name for r in spec.robots)
+        self.robot_handles = {r.name: PandaHandle.find(model, r.name, robot_prefix(i, r.name))
+                              for i, r in enumerate(spec.robots)}
         self._grip = {p.name: p.grip_width for p in spec.parts}
         self._body = {p: model.body(p).id for p in self.parts}
         self._hand = {h: model.body(b).id for h, b in hand_bodies.items()}
         self._weld = {(h, p): model.equality(weld_name(h, p)).id for h in hand_bodies for p in self.parts}
-        seated = [(spec.slots()[a.target], a.part) for a in spec.actions if a.kind in ("insert", "fasten")]
+        seated = [(spec.slots()[a.target], a.part) for a in spec.actions if action_kind(a.kind).seats]
         self._host = {p: slot.host for slot, p in seated}
         self._upright = {p: tuple(slot.axis) == (0.0, 0.0, 1.0) for slot, p in seated}
         self._seat = {p: model.equality(seat_name(p)).id for _, p in seated}
-        self._hollow = {p: model.site(g.target).id for g in self.actions.values() if g.seats
+        self._seat_site = {p: model.site(g.target).id for g in self.actions.values() if g.seats
                         for p in (g.part,)}
+        self._receive = {g.part: model.equality(receive_name(g.part)).id for g in self.actions.values()
+                         if g.received}
         self._collision_geoms = {p: np.flatnonzero((model.geom_bodyid == self._body[p])
                                                    & (model.geom_contype != 0)) for p in self.parts}
         self._all_collision_geoms = np.concatenate(list(self._collision_geoms.values()))
@@ -113,8 +133,21 @@ class Workcell:
         i = self.model.body(name).id
         return self.data.xpos[i].copy(), self.data.xquat[i].copy()
 
-    def robot_base_pose(self) -> tuple[np.ndarray, np.ndarray]:
-        return self.body_pose("panda_link0")
+    def robot_base_pose(self, robot: str | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Pose of ``panda_link0`` of ``robot`` (default: the cell's first robot)."""
+        return self.body_pose(self.robot(robot).base)
+
+    def robot(self, name: str | None = None) -> PandaHandle:
+        """The :class:`~ergosim.robot.handle.PandaHandle` of robot ``name`` (default: the first)."""
+        if not self.robot_handles:
+            raise ConfigError("the workcell has no robot", where=self.name)
+        if name is None:
+            return next(iter(self.robot_handles.values()))
+        try:
+            return self.robot_handles[name]
+        except KeyError:
+            raise ConfigError(f"unknown robot {name!r}; robots: {', '.join(self.robots)}",
+                              where=self.name) from None
 
     # -- reset ----------------------------------------------------------------------------------------------
     def reset(self) -> None:
@@ -127,7 +160,7 @@ class Workcell:
     def reset_parts(self) -> None:
         """Lay the parts out again at their initial poses (welds off, at rest); robot and human untouched."""
         key_qpos = self.model.key_qpos[self.home_key]
-        for eq in (*self._weld.values(), *self._seat.values()):
+        for eq in (*self._weld.values(), *self._seat.values(), *self._receive.values()):
             self.data.eq_active[eq] = 0
         self.pass_through(self._all_collision_geoms, False)
         for part in self.parts:
@@ -243,7 +276,7 @@ class Workcell:
     def seat_error(self, part: str) -> tuple[float, float]:
         """Distance [m] and angle [deg] between ``part`` and its seated pose in its slot."""
         pos, quat = self.body_pose(part)
-        i = self._hollow[part]
+        i = self._seat_site[part]
         spos = self.data.site_xpos[i].copy()
         squat = np.empty(4)
         mujoco.mju_mat2Quat(squat, self.data.site_xmat[i])
@@ -251,29 +284,60 @@ class Workcell:
         mujoco.mju_mulQuat(dq, _quat_conj(squat), quat)
         return float(np.linalg.norm(pos - spos)), _quat_angle_deg(dq)
 
-    def seat(self, profile: str) -> SeatResult:
-        """Weld ``profile`` to its slot's host at its exact seated pose if within the seat tolerances."""
-        if profile not in self._seat:
-            raise ConfigError(f"only parts with a slot are seated, got {profile!r}; they are: "
+    def seat(self, part: str) -> SeatResult:
+        """Weld ``part`` to its slot's host at its exact seated pose if within the seat tolerances."""
+        if part not in self._seat:
+            raise ConfigError(f"only parts with a slot are seated, got {part!r}; they are: "
                               f"{', '.join(self._seat)}", where=self.name)
-        dist, angle = self.seat_error(profile)
+        dist, angle = self.seat_error(part)
         ok = dist <= self.config.seat_tolerance and angle <= self.config.seat_tolerance_deg
         if ok:
-            eq = self._seat[profile]
-            hollow = self._hollow[profile]
+            eq = self._seat[part]
+            site = self._seat_site[part]
             self.model.eq_data[eq, 0:3] = 0.0
-            self.model.eq_data[eq, 3:6] = self.model.site_pos[hollow]
-            self.model.eq_data[eq, 6:10] = self.model.site_quat[hollow]
+            self.model.eq_data[eq, 3:6] = self.model.site_pos[site]
+            self.model.eq_data[eq, 6:10] = self.model.site_quat[site]
             self.data.eq_active[eq] = 1
-            self._wake(self._body[self._host[profile]], self._body[profile])
+            self._wake(self._body[self._host[part]], self._body[part])
         return SeatResult(ok, dist, angle)
 
-    def is_seated(self, profile: str) -> bool:
-        return bool(self.data.eq_active[self._seat[profile]])
+    def is_seated(self, part: str) -> bool:
+        return bool(self.data.eq_active[self._seat[part]])
 
-    def unseat(self, profile: str) -> None:
-        self.data.eq_active[self._seat[profile]] = 0
-        self._wake(self._body[self._host[profile]], self._body[profile])
+    def unseat(self, part: str) -> None:
+        self.data.eq_active[self._seat[part]] = 0
+        self._wake(self._body[self._host[part]], self._body[part])
+
+    # -- receivers and completion ---------------------------------------------------------------------------
+    def receive(self, part: str, pos) -> SeatResult:
+        """A receiver outside the cell (a second operator, a conveyor) takes ``part`` -- and what is seated in
+        it -- where it now is, if its origin lies within ``place_tolerance`` of ``pos`` (3,) [m] (the handover
+        kind's target): a weld to the world at the pose of that instant."""
+        if part not in self._receive:
+            raise ConfigError(f"only parts of handover actions are received, got {part!r}; they are: "
+                              f"{', '.join(self._receive) or 'none'}", where=self.name)
+        dist = float(np.linalg.norm(self.data.xpos[self._body[part]] - np.asarray(pos, dtype=float)))
+        ok = dist <= self.config.place_tolerance
+        if ok:
+            self._activate(self._receive[part], 0, self._body[part])
+        return SeatResult(ok, dist, 0.0)
+
+    def is_received(self, part: str) -> bool:
+        return part in self._receive and bool(self.data.eq_active[self._receive[part]])
+
+    def action_done(self, geom: ActionGeometry) -> bool:
+        """The completion check of ``geom``'s kind (:mod:`ergosim.scenes.action_kinds`), the same whoever did
+        the action: seated (insert, fasten); taken by the receiver (handover); else released with its origin
+        within ``place_tolerance`` of the target (place, remove)."""
+        if geom.seats:
+            return self.is_seated(geom.part)
+        if geom.received:
+            return self.is_received(geom.part)
+        if self.holder_of(geom.part) is not None:
+            return False
+        pos, _ = self.body_pose(geom.part)
+        target, _ = self.site_pose(geom.target)
+        return float(np.linalg.norm(pos - target)) <= self.config.place_tolerance
 
     def grasp_site(self, part: str) -> str:
         """Site the robot's TCP goes to for a top-down grasp of ``part``: its own grasp site, or, once a part

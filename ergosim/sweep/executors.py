@@ -22,6 +22,7 @@ from collections.abc import Iterable, Iterator, Sequence
 from typing import Any
 
 from ergosim.errors import ConfigError, ErgosimError
+from ergosim.plugins import extension_modules
 from ergosim.sweep.units import Unit, failed_document, run_unit
 from ergosim.twin.interrupt import quiet_worker, signals_ignored, stop_pool
 
@@ -73,14 +74,15 @@ class LocalExecutor(Executor):
         tasks = iter(tasks)
         if self.workers == 1:
             for scenario, unit in tasks:
-                yield run_unit(scenario, unit, actions)
+                yield run_unit(scenario, unit, actions, extension_modules())
             return
         ctx = multiprocessing.get_context("spawn")
         pending: dict[cf.Future, Unit] = {}
+        extensions = extension_modules()
 
         def fill() -> None:
             for scenario, unit in tasks:
-                pending[self._pool.submit(run_unit, scenario, unit, actions)] = unit
+                pending[self._pool.submit(run_unit, scenario, unit, actions, extensions)] = unit
                 if len(pending) >= 2 * self.workers:
                     break
 
@@ -112,12 +114,12 @@ class LocalExecutor(Executor):
         self._pool = None
 
 
-def _ray_unit(scenario, unit: Unit, actions: Sequence[str]) -> dict[str, Any]:
+def _ray_unit(scenario, unit: Unit, actions: Sequence[str], extensions: tuple[str, ...]) -> dict[str, Any]:
     """The Ray task: one unit. Ray workers share the terminal's process group, so a Ctrl-C meant for the
     driver must not fail the unit: the driver stops the workers itself."""
     with contextlib.suppress(ValueError):  # not the main thread of the worker
         signal.signal(signal.SIGINT, signal.SIG_IGN)
-    return run_unit(scenario, unit, actions)
+    return run_unit(scenario, unit, actions, extensions)
 
 
 class RayExecutor(Executor):
@@ -162,6 +164,7 @@ class RayExecutor(Executor):
         tasks = iter(tasks)
         refs: dict[int, Any] = {}  # one object per cell scenario, shared by its units
         actions_ref = ray.put(list(actions))
+        extensions = extension_modules()
         pending = self._pending
 
         def fill() -> None:
@@ -169,7 +172,7 @@ class RayExecutor(Executor):
                 ref = refs.get(unit.cell)
                 if ref is None:
                     ref = refs[unit.cell] = ray.put(scenario)
-                pending[self._remote.remote(ref, unit, actions_ref)] = unit
+                pending[self._remote.remote(ref, unit, actions_ref, extensions)] = unit
                 if len(pending) >= 2 * self.workers:
                     break
 

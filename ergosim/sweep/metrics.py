@@ -99,8 +99,7 @@ def unit_metrics(run, rula_g: Mapping[str, float], actions: Sequence[str]) -> di
                 "forced_robot_actions", "forced_human_actions", "failed_attempts", "robot_failures",
                 "worker_failures"):
         out[key] = int(m[key])
-    robot = sorted((a.repetition, a.t_start) for a in run.allocations
-                   if a.done and a.agent not in ("human", ""))
+    robot = sorted((a.repetition, a.t_start) for a in run.allocations if a.done and run.by_robot(a.agent))
     out["first_robot_repetition"] = int(robot[0][0]) if robot else None
     out["first_robot_time"] = float(robot[0][1]) if robot else None
     for a in actions:

@@ -24,6 +24,7 @@ from typing import Any
 
 from ergosim import __version__
 from ergosim.errors import ErgosimError
+from ergosim.plugins import import_extensions
 from ergosim.sweep.metrics import unit_metrics
 from ergosim.twin.scenariofile import Scenario
 from ergosim.twin.subject_records import RunRecord
@@ -85,8 +86,11 @@ def plan_units(sweep) -> list[Unit]:
     return units
 
 
-def run_unit(scenario: Scenario, unit: Unit, actions: Sequence[str]) -> dict[str, Any]:
-    """Simulate ``unit`` of the cell ``scenario``; the unit's document (JSON-ready), failed or not."""
+def run_unit(scenario: Scenario, unit: Unit, actions: Sequence[str],
+             extensions: tuple[str, ...] = ()) -> dict[str, Any]:
+    """Simulate ``unit`` of the cell ``scenario``; the unit's document (JSON-ready), failed or not.
+    ``extensions``: the modules that registered modes, indices or kinds in the driver
+    (:func:`ergosim.plugins.extension_modules`), imported first in a worker process."""
     from ergosim.scenes import build_cell  # noqa: PLC0415 - heavy imports stay in the worker
     from ergosim.twin.runner import run_subject  # noqa: PLC0415
     from ergosim.twin.scenario_check import check_reachability  # noqa: PLC0415
@@ -94,6 +98,7 @@ def run_unit(scenario: Scenario, unit: Unit, actions: Sequence[str]) -> dict[str
     start = time.perf_counter()
     doc = failed_document(unit, "")
     try:
+        import_extensions(extensions)
         sc = unit_scenario(scenario, unit.mode)
         check_reachability(sc, sc.task(), build_cell(sc.cell()))  # a cell certain to fail does not start
         result = run_subject(sc, unit.subject, unit.seed, (unit.mode,), slots=(unit.slot,))

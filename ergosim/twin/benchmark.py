@@ -16,28 +16,27 @@ import mujoco
 import numpy as np
 
 from ergosim.twin.recording import record_run
-from ergosim.twin.runner import _calibrate, build_rig, make_allocator
+from ergosim.twin.runner import _calibrate, build_rig, make_allocator, scenario_subject
 from ergosim.twin.scenariofile import load_scenario
 from ergosim.twin.session import Session
 from ergosim.viz import open_recording
-from ergosim.worker.subjects import make_subjects
 
-__all__ = ["bench_repetition", "bench_sim", "bench_full"]
+__all__ = ["bench_repetition", "bench_sim", "bench_full", "bench_video"]
 
 
-def bench_repetition(scenario: str = "multi-subject", mode: str = "hrc", seed: int = 0,
+def bench_repetition(scenario: str, mode: str = "hrc", seed: int = 0,
                      record: bool = False, scene_overrides: dict | None = None, repetitions: int = 1) -> dict:
     """Time ``repetitions`` repetitions of one subject (after calibration, which is not timed). Returns wall
     [s], simulated time [s], and the raw mj_step wall for the same simulated time."""
     sc = load_scenario(scenario, {f"scene.{k}": v for k, v in (scene_overrides or {}).items()})
     sc = sc.with_overrides({"repetitions": str(repetitions), "modes": mode})
     cfg = sc.protocol
-    subject = make_subjects(1, seed)[0]
-    calibration, _ = _calibrate(sc, subject, np.random.default_rng([seed, 1]))
+    subject = scenario_subject(sc, 0, seed)
+    calibration, _, _ = _calibrate(sc, subject, np.random.default_rng([seed, 1]))
     rng = np.random.default_rng([seed, 2])
     rig = build_rig(sc, subject, rng, record_bodies=record, alphas=calibration.alphas)
     session = Session(cfg=cfg, mode=mode, subject_index=0, worker=rig.worker, plant=rig.plant,
-                      robot=rig.robot, allocator=make_allocator(sc, mode, rig, calibration), rng=rng)
+                      robot=rig.robots, allocator=make_allocator(sc, mode, rig, calibration), rng=rng)
     t0 = time.perf_counter()
     run = session.run(repetitions)
     if record:
@@ -55,10 +54,10 @@ def bench_repetition(scenario: str = "multi-subject", mode: str = "hrc", seed: i
     mujoco.mj_step(model, data, nstep=n)
     raw = time.perf_counter() - t1
     return {"wall": wall, "sim_time": sim, "raw_wall": raw, "failures": len(run.failures),
-            "robot_actions": sum(a.agent != "human" for a in run.allocations)}
+            "robot_actions": sum(run.by_robot(a.agent) for a in run.allocations)}
 
 
-def bench_sim(scenario: str = "multi-subject", mode: str = "hrc", repeats: int = 3, seed: int = 0,
+def bench_sim(scenario: str, mode: str = "hrc", repeats: int = 3, seed: int = 0,
               repetitions: int = 1) -> dict:
     """Medians over ``repeats`` (subjects of seeds ``seed``, ``seed`` + 1, ...) of: real-time factor and
     overhead ratio of ``repetitions`` repetitions, logging off and on."""
@@ -87,7 +86,7 @@ def bench_sim(scenario: str = "multi-subject", mode: str = "hrc", repeats: int =
     }
 
 
-def bench_full(scenario: str = "multi-subject", jobs: int = 2, seed: int = 0) -> dict:
+def bench_full(scenario: str, jobs: int = 2, seed: int = 0) -> dict:
     """Wall time of the whole scenario (e.g. 12 subjects x 10 repetitions x 2 modes), ``jobs`` processes."""
     from ergosim.twin.scenario_run import run_scenario  # noqa: PLC0415
 
@@ -98,3 +97,58 @@ def bench_full(scenario: str = "multi-subject", jobs: int = 2, seed: int = 0) ->
     modes = res.summary["modes"]
     return {"scenario": scenario, "jobs": jobs, "wall_s": wall,
             "repetitions": sum(m["repetitions_completed"] for m in modes.values())}
+
+
+def bench_video(scenario: str = "multi-subject", seed: int = 0, repeats: int = 3, seconds: float = 10.0,
+                size: tuple[int, int] = (960, 540), speed: float = 1.0) -> dict:
+    """Cost of ``--video``, measured on one recorded repetition: ``seconds`` of simulated time filmed at
+    ``speed`` (30 fps), ``repeats`` times (medians). Returns ms per frame for each stage (scene render,
+    overlay, encoder), the wall time per second of simulated time, and the same repetition's simulation
+    wall time with and without body poses kept (what ``--video`` adds to the run itself)."""
+    from ergosim.video import VideoRequest, write_run_video  # noqa: PLC0415 - only this benchmark renders
+
+    sc = load_scenario(scenario).with_overrides({"repetitions": "1", "modes": "hrc"})
+    cfg = sc.protocol
+    subject = scenario_subject(sc, 0, seed)
+    calibration, _, _ = _calibrate(sc, subject, np.random.default_rng([seed, 1]))
+    sims = {"off": [], "on": []}
+    run = rig = None
+    for _ in range(repeats):
+        for key in ("off", "on"):
+            rng = np.random.default_rng([seed, 2])
+            rig = build_rig(sc, subject, rng, record_bodies=key == "on", alphas=calibration.alphas)
+            session = Session(cfg=cfg, mode="hrc", subject_index=0, worker=rig.worker, plant=rig.plant,
+                              robot=rig.robots, allocator=make_allocator(sc, "hrc", rig, calibration),
+                              rng=rng)
+            t0 = time.perf_counter()
+            r = session.run(1)
+            sims[key].append(time.perf_counter() - t0)
+            if key == "on":
+                run = r
+    stats = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for k in range(repeats):
+            request = VideoRequest(Path(tmp) / f"bench{k}.mp4", width=size[0], height=size[1], speed=speed)
+            stats.append(write_run_video(rig.cell, run, request, window=(0.0, seconds)))
+    frames = stats[0].frames
+
+    def med(f) -> float:
+        return statistics.median(f(x) for x in stats)
+
+    return {
+        "scenario": scenario, "repeats": repeats, "size": list(size), "speed": speed, "frames": frames,
+        "sim_seconds": seconds,
+        "render_ms_per_frame": 1000 * med(lambda x: x.render_s / x.frames),
+        "overlay_ms_per_frame": 1000 * med(lambda x: x.overlay_s / x.frames),
+        "encode_ms_per_frame": 1000 * med(lambda x: x.encode_s / x.frames),
+        "ms_per_frame": 1000 * med(lambda x: x.wall_s / x.frames),
+        "wall_per_sim_second": med(lambda x: x.wall_s / seconds),
+        "sim_wall_s": statistics.median(sims["off"]),
+        "sim_wall_s_with_poses": statistics.median(sims["on"]),
+        "poses_cost": statistics.median(sims["on"]) / statistics.median(sims["off"]) - 1.0,
+        "sim_time_s": rig.plant.time,
+        # measured side by side, so machine load cancels: filming one simulated second at x1 against
+        # simulating it
+        "video_over_simulation": med(lambda x: x.wall_s / seconds) / (statistics.median(sims["off"])
+                                                                         / rig.plant.time),
+    }

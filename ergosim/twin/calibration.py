@@ -4,7 +4,7 @@ A calibration pass is the worker doing the whole task alone, in the task's fixed
 workcell. Each action's motion is planned from the scene's current geometry and measured by the mocap
 stream exactly as in the loop (noise, dropouts, RULA per frame); its G_i at the ergonomics rate is one
 execution, whose coefficient is α = exp(-∫G/C), i.e. V after the action from zero wear (eq. 4, 9). The
-part is then put where the action leaves it (placed on its target, or seated in its hollow), so the next
+part is then put where the action leaves it (placed on its target, or seated in its slot), so the next
 action sees the right scene: postures depend on where things are, not on how the part got there, so the
 passes skip the physics. Passes are recorded lazily, as many as the adaptive-η procedure of
 :func:`ergosim.ergonomics.calibration.calibrate` asks for.
@@ -60,6 +60,8 @@ class SceneCalibration:
         self.tick_every = int(tick_every)
         self.dt_tick = float(dt_tick)
         self.passes: list[dict[str, Execution]] = []
+        self.mtm: dict[str, str] = {}
+        """action -> the MTM-1 analysis of its first recorded execution."""
 
     def _record_pass(self) -> None:
         cell, worker = self.cell, self.track.worker
@@ -67,13 +69,17 @@ class SceneCalibration:
         executions: dict[str, Execution] = {}
         for action in self.actions:
             geom = cell.actions[action]
-            seg = self.track.start_action(worker.plan(cell, geom, self.rng, action=action))
+            motion = worker.plan(cell, geom, self.rng, action=action)
+            self.mtm.setdefault(action, motion.mtm)
+            seg = self.track.start_action(motion)
             ticks = np.arange(self.tick_every - 1, seg.n, self.tick_every)
             executions[action] = Execution(seg.g[ticks], self.dt_tick, seg.grand[ticks])
             pos, quat = cell.site_pose(geom.target)
             put_part(cell, geom.part, pos, quat)
             if geom.seats:
                 cell.seat(geom.part)
+            elif geom.received:
+                cell.receive(geom.part, pos)
         cell.reset_parts()
         self.passes.append(executions)
 

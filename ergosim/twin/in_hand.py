@@ -1,6 +1,6 @@
 """The worker turning a part in the fingers while carrying it.
 
-A grasp keeps the part where the hand took it, but where the part must end (a hollow of J, a ledge) often
+A grasp keeps the part where the hand took it, but where the part must end (a slot, a ledge) often
 needs another orientation in the hand than the one it was picked with (a profile picked lying on the bench,
 inserted upright). People re-grip while they carry; the motion planner therefore places the *hand* where
 the part can end on its target (:class:`~ergosim.worker.motion.Worker`), and this module moves the

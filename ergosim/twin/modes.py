@@ -26,10 +26,11 @@ import numpy as np
 from ergosim.ergonomics.cost import CostParams, rula_baseline_params
 from ergosim.ergonomics.risk_index import RiskIndex, StaticRulaIndex
 from ergosim.errors import ConfigError
+from ergosim.plugins import note_caller
 from ergosim.viz.reason import allocation_reason
 
 __all__ = ["Mode", "RiskIndexEntry", "IndexContext", "register_mode", "register_risk_index", "get_mode",
-           "mode_names", "risk_index_names", "get_risk_index"]
+           "mode_or_default", "mode_names", "risk_index_names", "get_risk_index"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -60,13 +61,22 @@ class RiskIndexEntry:
 class Mode:
     """An allocation mode. ``risk_index``: registered index name, or None (costs from the task file);
     ``prune``: hyper-arcs removed before every decision; ``waits_for_takt``: the worker starts a repetition
-    only at its takt slot."""
+    only at its takt slot.
+
+    What the outputs make of it: ``uses_robot`` False (the worker alone) leaves the mode out of the
+    allocation histogram and, unless something failed, out of the printed allocation tables;
+    ``table_key``: the key of the mode's H/R table under ``allocation_table`` in summary.json (paper
+    Table 1), None for none; ``paired_with``: a mode this one is compared with, subject by subject
+    (Wilcoxon signed-rank on the load proxies, paper §7.2), when both are run."""
 
     name: str
     description: str
     risk_index: str | None = None
     prune: Pruning | None = None
     waits_for_takt: bool = False
+    uses_robot: bool = True
+    table_key: str | None = None
+    paired_with: str | None = None
 
     def pruned(self, allowed: Mapping[str, set[str]], human: str,
                robots: tuple[str, ...]) -> set[tuple[str, str]]:
@@ -84,12 +94,14 @@ _INDICES: dict[str, RiskIndexEntry] = {}
 
 
 def register_mode(mode: Mode) -> None:
-    """Make ``mode`` available by name (``--mode``, a scenario's ``modes``)."""
+    """Make ``mode`` available by name (``--mode``, a scenario's ``modes``), in worker processes too."""
+    note_caller()
     _MODES[mode.name] = mode
 
 
 def register_risk_index(entry: RiskIndexEntry) -> None:
-    """Make a risk index available by name to the modes."""
+    """Make a risk index available by name to the modes, in worker processes too."""
+    note_caller()
     _INDICES[entry.name] = entry
 
 
@@ -99,6 +111,12 @@ def mode_names() -> tuple[str, ...]:
 
 def risk_index_names() -> tuple[str, ...]:
     return tuple(_INDICES)
+
+
+def mode_or_default(name: str) -> Mode:
+    """The registered mode ``name``, or a plain :class:`Mode` of that name (outputs of a mode no longer
+    registered are still summarised)."""
+    return _MODES.get(name) or Mode(name, "unregistered mode")
 
 
 def get_mode(name: str) -> Mode:
@@ -159,8 +177,10 @@ def _robot_first(allowed, human, robots) -> set[tuple[str, str]]:
     return {(action, human) for action, agents in allowed.items() if agents & set(robots)}
 
 
-register_mode(Mode("hrc", "KWear-driven allocation (paper eq. 9-11)", risk_index="kwear"))
-register_mode(Mode("rula", "static RULA baseline (paper §7.1, Table 1)", risk_index="rula-static"))
+register_mode(Mode("hrc", "KWear-driven allocation (paper eq. 9-11)", risk_index="kwear", table_key="kwear",
+                   paired_with="h-only"))
+register_mode(Mode("rula", "static RULA baseline (paper §7.1, Table 1)", risk_index="rula-static",
+                   table_key="rula"))
 register_mode(Mode("h-only", "the worker does everything and waits for the takt (paper §7.2)",
-                   prune=_human_only, waits_for_takt=True))
+                   prune=_human_only, waits_for_takt=True, uses_robot=False))
 register_mode(Mode("r-only", "every action a robot may do goes to a robot", prune=_robot_first))

@@ -153,6 +153,12 @@ class SubjectRun:
     horizon: float = math.inf
     """The production schedule [s]: repetitions × takt. The session runs at least this long (a worker who
     finishes early rests), so every mode covers the same window."""
+    human: str = "human"
+    """The task's name for the worker (its human agent); every other agent in the records is a robot."""
+
+    def by_robot(self, agent: str) -> bool:
+        """``agent`` (of an allocation or a failure) is one of the robots (not the worker, not empty)."""
+        return agent not in (self.human, "")
 
     @property
     def kwear_integral(self) -> float:

@@ -1,10 +1,14 @@
 """The robot's side of the loop: dispatch an action to a Panda skill and step it with the physics.
 
-A robot action is :class:`~ergosim.robot.skills.PickPlace` (the robot puts the part on its target, or
-seats a profile along its hollow's axis) or, where the scene defines a handover site (paper §7.2),
-:class:`~ergosim.robot.skills.Handover`: the robot brings the part to the pre-planned handover pose and
-waits until the worker's hand holds it. Skills set the controls one physics step at a time, so while a
-skill runs the plant steps MuJoCo one step per skill step.
+A robot action is :class:`~ergosim.robot.skills.PickPlace` (the robot puts the part on its target, seats
+it along its slot's axis, holds a fastener for its turns, or gives it to the receiver of a handover) or,
+where the action names a handover pose (paper §7.2), :class:`~ergosim.robot.skills.Handover`: the robot
+brings the part to that pose and waits until the worker's hand holds it. Skills set the controls one
+physics step at a time, so while a skill runs the plant steps MuJoCo one step per skill step.
+
+Two speeds time the robot (:mod:`ergosim.robot.trajectory`): ``ee_speed`` caps the contact-critical
+segments (the paper's conservative 0.05 m/s, §7.2) and ``transit_speed`` the free-space transits (ISO
+10218-1:2011 §5.6 reduced speed, 0.25 m/s).
 """
 
 from __future__ import annotations
@@ -15,20 +19,25 @@ import numpy as np
 from ergosim.robot.kinematics import PandaKinematics
 from ergosim.robot.skills import Handover, PickPlace, SkillParams
 from ergosim.robot.status import SkillResult
-from ergosim.robot.trajectory import MotionLimits
+from ergosim.robot.trajectory import CONTACT_SPEED, TRANSIT_SPEED, MotionLimits
 
 __all__ = ["RobotTrack"]
 
 
 class RobotTrack:
-    """One Panda in one workcell. ``ee_speed`` [m/s]: end-effector speed (the paper's conservative 0.05)."""
+    """One Panda in one workcell: ``robot`` its name (the task agent; default the cell's first robot).
+    ``ee_speed`` [m/s]: TCP speed of contact-critical segments; ``transit_speed`` [m/s]: TCP speed of
+    free-space transits. ``results``: every finished skill's result (with its time per phase), in order."""
 
-    def __init__(self, cell, ee_speed: float = 0.05) -> None:
+    def __init__(self, cell, ee_speed: float = CONTACT_SPEED, transit_speed: float = TRANSIT_SPEED,
+                 robot: str | None = None) -> None:
         self.cell = cell
+        self.name = cell.robot(robot).name
         self.kin = PandaKinematics()
-        self.params = SkillParams(limits=MotionLimits(speed=ee_speed))
+        self.params = SkillParams(limits=MotionLimits(speed=ee_speed, transit_speed=transit_speed))
         self.skill = None
         self.result: SkillResult | None = None
+        self.results: list[SkillResult] = []
         self.waiting = False
 
     @property
@@ -58,7 +67,7 @@ class RobotTrack:
         if geom.handover is not None:
             pos, quat = cell.site_pose(geom.handover)
             self.skill = Handover(cell, geom.part, pos, quat, taken=self._taken(geom.part), kin=self.kin,
-                                  params=self.params)
+                                  params=self.params, robot=self.name)
             return
         pos, quat = cell.site_pose(geom.target)
         approach = None
@@ -69,7 +78,8 @@ class RobotTrack:
             axis = "xyz".index(cell.config.part(geom.part).insert_axis)
             approach = rot.reshape(3, 3)[:, axis]
         self.skill = PickPlace(cell, geom.part, pos, quat, approach=approach, seat=geom.seats,
-                               hold=geom.turn_time, kin=self.kin, params=self.params)
+                               hold=geom.turn_time, receive=geom.received, kin=self.kin, params=self.params,
+                               robot=self.name)
 
     def _taken(self, part: str):
         def taken(wc) -> bool:
@@ -85,4 +95,5 @@ class RobotTrack:
                 res = skill.step(data)
                 if res is not None:
                     self.result = res
+                    self.results.append(res)
             mujoco.mj_step(model, data)

@@ -36,7 +36,8 @@ MANIFEST = "run.json"
 RUN_STATUSES = ("running", "complete", "abandoned", "interrupted", "failed")
 OUTPUT_PATTERNS = (
     MANIFEST, "summary.json", "subject_records.json", "allocations.csv", "failures.csv", "ticks.csv",
-    "kwear_*.png", "kwear_timeline_*.png", "allocation_histogram.png", "kwear_state_*.json",
+    "subjects.csv", "kwear_actions.csv", "kwear_*.png", "kwear_timeline_*.png", "allocation_histogram.png",
+    "kwear_state_*.json",
 )
 """Names ``ergosim run`` writes into its folder (glob patterns); an earlier run's are removed at start."""
 

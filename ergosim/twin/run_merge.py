@@ -3,11 +3,11 @@
 Each shard keeps what its summary is computed from (``subject_records.json``). The merge checks that the
 shards are finished runs of the same scenario, seed and protocol with disjoint subjects that join into
 one contiguous range, then recomputes every statistic from the joined records through the same code a
-run uses (:func:`~ergosim.twin.run_summary.write_summary_files`): shards that cover every subject give
-the unsharded ``summary.json``, ``allocations.csv``, ``failures.csv`` and ``subject_records.json`` byte
-for byte. ``ticks.csv`` is joined line by line in the run's order (mode, then subject), the KWear state
-files are copied, the first subject's figures come from its shard and the allocation histogram is drawn
-again from all subjects.
+run uses (:mod:`ergosim.twin.run_summary`): shards that cover every subject give the unsharded
+``summary.json``, ``allocations.csv``, ``failures.csv``, ``subjects.csv`` and ``subject_records.json``
+byte for byte. ``ticks.csv`` and ``kwear_actions.csv`` are joined line by line in the run's order, the
+KWear state files are copied, and the figures are drawn again from the merged files, as
+``ergosim plot`` draws them.
 """
 
 from __future__ import annotations
@@ -15,15 +15,15 @@ from __future__ import annotations
 import dataclasses
 import json
 import os
-import shutil
 from collections.abc import Sequence
 from pathlib import Path
 
 from ergosim.atomic import atomic_open, write_bytes
 from ergosim.errors import ConfigError
-from ergosim.twin.plots import allocation_histogram
+from ergosim.twin.plots import write_plots
+from ergosim.twin.report import write_subjects, write_summary
 from ergosim.twin.run_folder import MANIFEST, RunFolder
-from ergosim.twin.run_summary import write_summary_files
+from ergosim.twin.run_summary import summary_of, write_record_files
 from ergosim.twin.subject_records import RECORDS_FILE, SubjectRecord, read_records
 
 __all__ = ["Shard", "MergeResult", "read_shard", "merge_runs"]
@@ -104,25 +104,31 @@ def _joined_range(shards: Sequence[Shard]) -> range:
     return range(ordered[0].subjects.start, ordered[-1].subjects.stop)
 
 
-def _merge_ticks(shards: Sequence[Shard], modes: Sequence[str], out: Path) -> None:
-    """ticks.csv of the run: modes in sorted order, subjects in order within a mode (as write_ticks)."""
-    paths = [s.path / "ticks.csv" for s in shards]
-    if not all(p.is_file() for p in paths):
-        return
+def _header(paths: Sequence[Path], name: str) -> str:
     headers = []
     for p in paths:
         with p.open(encoding="utf-8") as f:
             headers.append(f.readline())
     if len(set(headers)) != 1:
-        raise ConfigError("ticks.csv columns differ between shards", where=str(paths[0].parent))
-    with atomic_open(out / "ticks.csv", "w") as dst:
-        dst.write(headers[0])
-        for mode in sorted(modes):
+        raise ConfigError(f"{name} columns differ between shards", where=str(paths[0].parent))
+    return headers[0]
+
+
+def _merge_lines(shards: Sequence[Shard], name: str, out: Path, groups: Sequence[str] | None = None) -> None:
+    """``name`` of the run from the shards' (in subject order): every shard's lines, or with ``groups``
+    (modes) the lines of each group (the second column) in turn, as ticks.csv orders mode, then subject."""
+    paths = [s.path / name for s in shards]
+    if not all(p.is_file() for p in paths):
+        return
+    header = _header(paths, name)
+    with atomic_open(out / name, "w") as dst:
+        dst.write(header)
+        for group in groups if groups is not None else [None]:
             for p in paths:
                 with p.open(encoding="utf-8", newline="") as f:
                     next(f)
                     for line in f:
-                        if line.split(",", 2)[1] == mode:
+                        if group is None or line.split(",", 2)[1] == group:
                             dst.write(line)
 
 
@@ -141,19 +147,22 @@ def merge_runs(dirs: Sequence[str | os.PathLike[str]], out: str | os.PathLike[st
     config, name, seed = header["config"], header["scenario"], header["seed"]
     folder = RunFolder(out, scenario=name, seed=seed)
     folder.claim(config)
-    records = [r for s in shards for r in s.records]
+    records = sorted((r for s in shards for r in s.records), key=lambda r: r.subject)
+    span = (subjects.start, subjects.stop)
     try:
-        summary = write_summary_files(out, name, seed, config, records,
-                                      subject_range=(subjects.start, subjects.stop), complete=True,
-                                      status="complete")
-        _merge_ticks(shards, config["modes"], out)
+        summary = summary_of(name, seed, config, records, subject_range=span, complete=True,
+                             status="complete")
+        write_record_files(out, name, seed, config, records, subject_range=span)
+        _merge_lines(shards, "ticks.csv", out, groups=sorted(config["modes"]))
+        _merge_lines(shards, "kwear_actions.csv", out)
+        write_subjects(out / "subjects.csv", [(r.name, r.runs[m]) for m in config["modes"] for r in records
+                                              if m in r.runs])
         for s in shards:
             for state in sorted(s.path.glob("kwear_state_s*_*.json")):
                 write_bytes(out / state.name, state.read_bytes())
-        for fig in sorted(shards[0].path.glob("kwear_*.png")):  # the first subject's figures
-            with atomic_open(out / fig.name, "wb") as dst, fig.open("rb") as src:
-                shutil.copyfileobj(src, dst)
-        allocation_histogram(out, records, config["modes"])
+        if (out / "ticks.csv").is_file():
+            write_plots(out)
+        write_summary(out / "summary.json", summary)
     except BaseException:
         folder.finish("failed", "the merge stopped before it wrote every file")
         raise

@@ -2,8 +2,8 @@
 subject_records.json itself.
 
 ``ergosim run`` writes them after every finished subject; ``ergosim merge`` writes them from the records
-of several shards. Both go through :func:`write_summary_files`, so the merged summary of shards that
-cover every subject is the unsharded summary byte for byte.
+of several shards. Both go through :func:`summary_of` and :func:`write_record_files`, so the merged summary
+of shards that cover every subject is the unsharded summary byte for byte.
 """
 
 from __future__ import annotations
@@ -12,10 +12,11 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from ergosim.twin.report import summarise, write_allocations, write_failures, write_summary
+from ergosim.twin.calibration_summary import calibration_summary
+from ergosim.twin.report import summarise, write_allocations, write_failures
 from ergosim.twin.subject_records import RECORDS_FILE, SubjectRecord, write_records
 
-__all__ = ["write_summary_files", "summary_of"]
+__all__ = ["summary_of", "write_record_files"]
 
 
 def summary_of(scenario: str, seed: int, config: Mapping[str, Any], records: Sequence[SubjectRecord], *,
@@ -26,16 +27,12 @@ def summary_of(scenario: str, seed: int, config: Mapping[str, Any], records: Seq
     modes = {m: [r.runs[m] for r in records if m in r.runs] for m in config["modes"]}
     extra = {
         "subjects": [r.name for r in records],
-        "calibration": {
-            "eta_by_subject": [dict(r.eta) for r in records],
-            "max_error_by_subject": [dict(r.calibration_errors) for r in records],
-            "rula_g_by_subject": [dict(r.rula_g) for r in records],
-            "alpha_by_subject": [dict(r.alphas) for r in records],
-        },
+        "calibration": calibration_summary(records),
         "config": dict(config),
     }
     actions = sorted(records[0].alphas) if records else []
     summary = summarise(scenario, seed, modes, actions=actions, complete=complete, extra=extra)
+    summary["rula_g_by_action"] = extra["calibration"]["rula_g_by_action"]  # G(a_k) per action, over subjects
     abandoned = sum(m["repetitions_abandoned"] for m in summary["modes"].values())
     summary["status"] = "abandoned" if status == "complete" and abandoned else status
     summary["complete"] = complete and not abandoned
@@ -47,18 +44,12 @@ def summary_of(scenario: str, seed: int, config: Mapping[str, Any], records: Seq
     return summary
 
 
-def write_summary_files(out: Path, scenario: str, seed: int, config: Mapping[str, Any],
-                        records: Sequence[SubjectRecord], *, subject_range: tuple[int, int], complete: bool,
-                        status: str = "running") -> dict:
-    """Write summary.json, allocations.csv, failures.csv and subject_records.json (each atomically) into
-    ``out``; return the summary."""
+def write_record_files(out: Path, scenario: str, seed: int, config: Mapping[str, Any],
+                       records: Sequence[SubjectRecord], *, subject_range: tuple[int, int]) -> None:
+    """Write allocations.csv, failures.csv and subject_records.json (each atomically) into ``out``."""
     records = sorted(records, key=lambda r: r.subject)
-    summary = summary_of(scenario, seed, config, records, subject_range=subject_range, complete=complete,
-                         status=status)
     runs = [r.runs[m] for r in records for m in config["modes"] if m in r.runs]
     write_allocations(out / "allocations.csv", [a for run in runs for a in run.allocations])
     write_failures(out / "failures.csv", [f for run in runs for f in run.failures])
     write_records(out / RECORDS_FILE, scenario=scenario, seed=seed, config=config,
                   subject_range=subject_range, records=records)
-    write_summary(out / "summary.json", summary)
-    return summary

@@ -10,8 +10,9 @@ import dataclasses
 
 import numpy as np
 
-from ergosim.ergonomics.kwear import kwear_trajectory
+from ergosim.ergonomics.kwear import KWearParams, kwear_trajectory
 from ergosim.ergonomics.risk_index import KWearIndex
+from ergosim.errors import ConfigError
 from ergosim.posture import KWEAR_JOINTS
 from ergosim.scenes import Workcell, build_cell
 from ergosim.twin.allocator import Allocator
@@ -26,7 +27,8 @@ from ergosim.twin.worker_track import WorkerTrack
 from ergosim.worker.motion import Worker
 from ergosim.worker.subjects import Subject, make_subjects
 
-__all__ = ["SubjectResult", "Rig", "subject_cell", "build_rig", "make_allocator", "run_subject"]
+__all__ = ["SubjectResult", "Rig", "scenario_subject", "subject_cell", "build_rig", "make_allocator",
+           "subject_session", "run_subject"]
 
 
 @dataclasses.dataclass
@@ -42,17 +44,34 @@ class SubjectResult:
     rula_g: dict[str, float]
     traces: dict[str, tuple[np.ndarray, np.ndarray]] = dataclasses.field(default_factory=dict)
     """action -> (t (n,) [s], V (n, 5)): KWear from zero wear in the first calibration execution."""
+    kwear_params: KWearParams = KWearParams()
+    """The subject's KWear constants (C, r, ...; eq. 6-7)."""
+    mtm: dict[str, str] = dataclasses.field(default_factory=dict)
+    """action -> its MTM-1 analysis in the first calibration execution (ergosim.worker.action_timing)."""
 
 
 @dataclasses.dataclass
 class Rig:
-    """Everything physical for one subject: workcell, plant, worker, robot (None in a cell without one)."""
+    """Everything physical for one subject: workcell, plant, worker, the robots by name (none in a cell
+    without one) and the task graph."""
 
     cell: Workcell
     plant: Plant
     worker: Worker
-    robot: RobotTrack | None
+    robots: dict[str, RobotTrack]
     graph: object
+
+    @property
+    def robot(self) -> RobotTrack | None:
+        """The cell's first robot, or None."""
+        return next(iter(self.robots.values()), None)
+
+
+def scenario_subject(scenario: Scenario, index: int, seed: int) -> Subject:
+    """Subject ``index`` of ``seed``'s population, drawn as the scenario's protocol says (female fraction,
+    pace); it depends only on (seed, index)."""
+    cfg = scenario.protocol
+    return make_subjects(index + 1, seed, female_fraction=cfg.female_fraction, pace=cfg.pace)[index]
 
 
 def subject_cell(scenario: Scenario, subject: Subject) -> Workcell:
@@ -76,13 +95,15 @@ def build_rig(scenario: Scenario, subject: Subject, rng: np.random.Generator, re
     kwear = KWearIndex(subject.kwear_params(), alphas or {}, online_weight=cfg.online_alpha_weight)
     plant = Plant(cell, track, kwear, mocap_rate=cfg.mocap_rate,
                   ergonomics_rate=cfg.ergonomics_rate, physics_dt=cfg.physics_dt, record_bodies=record_bodies)
-    robot = RobotTrack(cell, ee_speed=cfg.ee_speed) if cell.robots else None
-    plant.robot = robot
-    return Rig(cell, plant, track.worker, robot, scenario.task())
+    robots = {r: RobotTrack(cell, ee_speed=cfg.ee_speed, transit_speed=cfg.transit_speed, robot=r)
+              for r in cell.robots}
+    plant.robot = next(iter(robots.values()), None)
+    return Rig(cell, plant, track.worker, robots, scenario.task())
 
 
 def _calibrate(scenario: Scenario, subject: Subject, rng: np.random.Generator):
-    """Calibrate ``subject`` in the scenario's workcell; also return the first pass's KWear traces."""
+    """Calibrate ``subject`` in the scenario's workcell; also return the first pass's KWear traces and MTM-1
+    analyses."""
     cfg = scenario.protocol
     cell = subject_cell(scenario, subject)
     subject = _subject_in(cell, subject)
@@ -95,7 +116,7 @@ def _calibrate(scenario: Scenario, subject: Subject, rng: np.random.Generator):
     for action, ex in cal.passes[0].items():
         v = kwear_trajectory(np.zeros(len(KWEAR_JOINTS)), ex.g, ex.dt, params)
         traces[action] = (np.arange(1, len(v) + 1) * cal.dt_tick, v)
-    return result, traces
+    return result, traces, dict(cal.mtm)
 
 
 def make_allocator(scenario: Scenario, mode_name: str, rig: Rig, calibration) -> Allocator:
@@ -108,26 +129,54 @@ def make_allocator(scenario: Scenario, mode_name: str, rig: Rig, calibration) ->
     return Allocator(rig.graph, mode, index=index, cost=cost, planner=cfg.planner)
 
 
+def _session(scenario: Scenario, index: int, subject: Subject, mode: str, rng: np.random.Generator,
+             calibration, record_bodies: bool = False) -> Session:
+    rig = build_rig(scenario, subject, rng, record_bodies=record_bodies,
+                    alphas=calibration.alphas if calibration is not None else None)
+    allocator = make_allocator(scenario, mode, rig, calibration)
+    return Session(cfg=scenario.protocol, mode=mode, subject_index=index, worker=rig.worker, plant=rig.plant,
+                   robot=rig.robots, allocator=allocator, rng=rng)
+
+
+def subject_session(scenario: Scenario, index: int, seed: int, mode: str, *, calibrate: bool = True,
+                    record_bodies: bool = False) -> Session:
+    """A ready :class:`Session` of subject ``index`` of ``seed``'s population in ``mode``, for stepping by
+    hand: ``session.run(n)`` repetitions, or ``session.perform(action, agent)`` one action at a time.
+
+    ``calibrate``: calibrate the subject first (§5), as a run does; a mode without a risk index (``h-only``,
+    ``r-only``) may skip it. Draws from ``SeedSequence([seed, index])`` like the subject's run, whose first
+    mode it then equals."""
+    mode_spec = get_mode(mode)
+    if not calibrate and mode_spec.risk_index is not None:
+        raise ConfigError(f"mode {mode!r} prices the worker with risk index {mode_spec.risk_index!r}, which "
+                          "needs the subject's calibration: calibrate=True", where="subject_session")
+    subject = scenario_subject(scenario, index, seed)
+    seqs = np.random.SeedSequence([seed, index]).spawn(2)
+    calibration = _calibrate(scenario, subject, np.random.default_rng(seqs[0]))[0] if calibrate else None
+    return _session(scenario, index, subject, mode, np.random.default_rng(seqs[1]), calibration,
+                    record_bodies=record_bodies)
+
+
 def run_subject(scenario: Scenario, index: int, seed: int, modes: tuple[str, ...],
-                record_mode: str | None = None, slots: tuple[int, ...] | None = None) -> SubjectResult:
+                record_mode: str | tuple[str, ...] | None = None,
+                slots: tuple[int, ...] | None = None) -> SubjectResult:
     """Calibrate subject ``index`` of ``seed``'s population, then run each mode from zero wear.
 
-    ``record_mode``: keep body poses per tick for that mode's run (for the rerun recording). ``slots``: the
-    random stream of each mode, its position in the run's mode list (default ``0, 1, ...``): the
-    calibration draws from child 0 of ``SeedSequence([seed, index])`` and mode slot k from child 1 + k,
-    so one mode run alone with its slot (a sweep's work unit) equals that mode in the whole run."""
+    ``record_mode``: keep body poses per tick for that mode's run, or those modes' runs (for the rerun
+    recording and the video); copying the poses changes nothing in the simulation. ``slots``: the random
+    stream of each mode, its position in the run's mode list (default ``0, 1, ...``): the calibration
+    draws from child 0 of ``SeedSequence([seed, index])`` and mode slot k from child 1 + k, so one mode
+    run alone with its slot (a sweep's work unit) equals that mode in the whole run."""
     cfg = scenario.protocol
-    subject = make_subjects(index + 1, seed)[index]
+    recorded = {record_mode} if isinstance(record_mode, str) else set(record_mode or ())
+    subject = scenario_subject(scenario, index, seed)
     slots = tuple(range(len(modes))) if slots is None else tuple(slots)
     seqs = [np.random.SeedSequence([seed, index], spawn_key=(k,)) for k in (0, *(1 + s for s in slots))]
-    calibration, traces = _calibrate(scenario, subject, np.random.default_rng(seqs[0]))
+    calibration, traces, mtm = _calibrate(scenario, subject, np.random.default_rng(seqs[0]))
     runs: dict[str, SubjectRun] = {}
     for mode, seq in zip(modes, seqs[1:], strict=True):
-        rng = np.random.default_rng(seq)
-        rig = build_rig(scenario, subject, rng, record_bodies=mode == record_mode, alphas=calibration.alphas)
-        allocator = make_allocator(scenario, mode, rig, calibration)
-        session = Session(cfg=cfg, mode=mode, subject_index=index, worker=rig.worker, plant=rig.plant,
-                          robot=rig.robot, allocator=allocator, rng=rng)
+        session = _session(scenario, index, subject, mode, np.random.default_rng(seq), calibration,
+                           record_bodies=mode in recorded)
         runs[mode] = session.run(cfg.repetitions)
         runs[mode].calibration_eta = calibration.eta
     return SubjectResult(
@@ -135,5 +184,5 @@ def run_subject(scenario: Scenario, index: int, seed: int, modes: tuple[str, ...
         calibration_errors={a: float(c.max_error.max()) for a, c in calibration.actions.items()},
         alphas={a: [float(x) for x in c.alpha] for a, c in calibration.actions.items()},
         rula_g={a: float(c.rula_grand) for a, c in calibration.actions.items()},
-        traces=traces,
+        traces=traces, kwear_params=subject.kwear_params(), mtm=mtm,
     )

@@ -15,6 +15,7 @@ import dataclasses
 from typing import Literal
 
 from ergosim.errors import ConfigError
+from ergosim.robot.trajectory import CONTACT_SPEED, TRANSIT_SPEED
 from ergosim.twin.modes import mode_names
 
 __all__ = ["ScenarioConfig", "EE_SPEED_MAX", "ETA_MAX_LIMIT"]
@@ -40,6 +41,9 @@ class ScenarioConfig:
     robot_cost: float
     """c_{h,w_r}: the constant cost of every robot hyper-arc (paper §4)."""
     takt: float = 38.0
+    takt_paced: bool = False
+    """Every repetition starts at its takt slot, in every mode (a paced line); False: only modes that wait
+    for the takt (h-only) do, the others start the next repetition at once."""
     gamma: float = 100.0
     """Γ: penalty added to γ_i when V̂_i ≥ V_th (eq. 11)."""
     v_th: float = 0.8
@@ -51,8 +55,12 @@ class ScenarioConfig:
     mocap_rate: float = 60.0
     physics_dt: float = 1.0 / 240.0
     """Nominal physics step [s]; the loop uses mocap period / round(mocap period / physics_dt)."""
-    ee_speed: float = 0.05
-    """Robot end-effector speed [m/s]; the paper's conservative 0.05 m/s, at most EE_SPEED_MAX."""
+    ee_speed: float = CONTACT_SPEED
+    """Robot TCP speed of contact-critical motion [m/s] (approach, grasp, lift-off, place, insertion,
+    retreat, the final approach into the handover pose); the paper's conservative 0.05 m/s (§7.2)."""
+    transit_speed: float = TRANSIT_SPEED
+    """Robot TCP speed of free-space transits [m/s]; ISO 10218-1:2011 §5.6 reduced speed (<= 0.25 m/s),
+    at least ee_speed and at most EE_SPEED_MAX."""
     eta0: int = 2
     eta_max: int = 10
     v_des: float = 1e-3
@@ -63,6 +71,10 @@ class ScenarioConfig:
     """Multiplier of each subject's sensor noise (drifting bias and white noise): 0 none, 1 the subject's."""
     dropout_rate: float = 0.0
     planner: Literal["fast", "paper"] = "fast"
+    female_fraction: float = 2.0 / 12.0
+    """Share of women among the synthetic subjects: §7.2's cohort, "2 females and 10 males"."""
+    pace: float = 1.0
+    """Mean pace of the subjects: 1 = MTM-1 standard performance (ergosim.worker.action_timing)."""
 
     def validate(self, where: str = "scenario") -> None:
         def need(ok: bool, msg: str) -> None:
@@ -87,6 +99,12 @@ class ScenarioConfig:
         need(0 < self.ee_speed <= EE_SPEED_MAX,
              f"ee_speed must be in (0, {EE_SPEED_MAX}] m/s (the Panda's Cartesian limit), "
              f"got {self.ee_speed}")
+        need(0 < self.transit_speed <= EE_SPEED_MAX,
+             f"transit_speed must be in (0, {EE_SPEED_MAX}] m/s (the Panda's Cartesian limit), "
+             f"got {self.transit_speed}")
+        need(self.ee_speed <= self.transit_speed,
+             f"ee_speed ({self.ee_speed} m/s, contact-critical motion) must not exceed transit_speed "
+             f"({self.transit_speed} m/s, free-space motion)")
         need(2 <= self.eta0 <= self.eta_max, f"need 2 <= eta0 <= eta_max, got {self.eta0}, {self.eta_max}")
         need(self.eta_max <= ETA_MAX_LIMIT, f"eta_max must be <= {ETA_MAX_LIMIT} calibration passes, "
              f"got {self.eta_max}")
@@ -95,6 +113,9 @@ class ScenarioConfig:
         need(self.noise_scale >= 0, "noise_scale must be >= 0")
         need(0 <= self.dropout_rate < 1, "dropout_rate must be in [0, 1)")
         need(0 < self.rula_threshold_fraction <= 1, "rula_threshold_fraction must be in (0, 1]")
+        need(0 <= self.female_fraction <= 1, f"female_fraction must be in [0, 1], got {self.female_fraction}")
+        need(0.1 <= self.pace <= 2.0, f"pace must be in [0.1, 2] (1 = MTM-1 standard performance), "
+             f"got {self.pace}")
 
     @property
     def rula_threshold(self) -> float:

@@ -15,7 +15,7 @@ from ergosim.errors import ConfigError
 from ergosim.planner import AndOrGraph
 from ergosim.scenes import CellSpec
 
-__all__ = ["PANDA_MAX_OPENING", "check_scenario", "check_reachability"]
+__all__ = ["PANDA_MAX_OPENING", "check_scenario", "check_reachability", "precheck"]
 
 PANDA_MAX_OPENING = 0.08
 """Largest part width [m] the Panda's gripper closes on: its fingers open to 80 mm (Franka Emika Panda
@@ -28,26 +28,32 @@ def check_scenario(scenario, task: AndOrGraph, cell: CellSpec) -> None:
     cell_actions = {a.label: a for a in cell.actions}
     missing = [a for a in task.actions if a not in cell_actions]
     if missing:
-        raise ConfigError(f"operation action {missing[0]!r} of the task has no physical action in the "
-                          f"workcell ({cell.source}); its actions: {', '.join(cell_actions) or 'none'}",
-                          where=where)
+        op = next(o.name for o in task.operations if o.action == missing[0])
+        raise ConfigError(f"operation {op!r} (action {missing[0]!r}) has no physical action in the "
+                          f"workcell {cell.source}: add [actions.{missing[0]}] there (kind, part, target); "
+                          f"its actions: {', '.join(cell_actions) or 'none'}",
+                          where=f"{scenario.task_source}: {missing[0]}")
     parts = set(task.parts)
     for a in cell.actions:
         if a.part not in parts:
             raise ConfigError(f"action {a.label} moves part {a.part!r}, which is not a part of the task "
-                              f"({', '.join(task.parts)})", where=f"{cell.source}: actions.{a.label}.part")
+                              f"{scenario.task_source} ({', '.join(task.parts)})",
+                              where=f"{cell.source}: actions.{a.label}.part")
     robots = {r.name for r in cell.robots}
     allowed: dict[str, set[str]] = {}
     for op in task.operations:
         allowed.setdefault(op.action, set()).update(op.agents)
-    for agent in task.agents:
-        if agent.kind == "robot" and agent.name not in robots:
-            raise ConfigError(f"agent {agent.name!r} of the task has no body in the workcell; its robots: "
-                              f"{', '.join(robots) or 'none'}", where=where)
     humans = [a.name for a in task.agents if a.kind == "human"]
     if len(humans) != 1:
         raise ConfigError(f"the twin simulates one worker; the task has {len(humans)} human agents",
                           where=where)
+    bodies = {cell.worker.name: "human", **{r: "robot" for r in robots}}
+    for agent in task.agents:
+        if bodies.get(agent.name) != agent.kind:
+            have = f"the worker {cell.worker.name!r} (worker.name) and the robots {sorted(robots)}"
+            raise ConfigError(f"{agent.kind} agent {agent.name!r} has no body in the workcell "
+                              f"{cell.source}, which has {have}",
+                              where=f"{scenario.task_source}: agents.{agent.name}")
     for action, agents in allowed.items():
         part = cell.part(cell_actions[action].part)
         for agent in sorted(agents & robots):
@@ -56,16 +62,50 @@ def check_scenario(scenario, task: AndOrGraph, cell: CellSpec) -> None:
                     f"robot {agent!r} may do {action}, but its gripper cannot take {part.name} "
                     f"({part.grip_width * 1000:.0f} mm wide; the Panda opens "
                     f"{PANDA_MAX_OPENING * 1000:.0f} mm): give that operation agents = [\"{humans[0]}\"] "
-                    "in the task", where=where)
+                    "in the task", where=f"{scenario.task_source}: {action}")
+
+
+def precheck(scenario) -> None:
+    """Everything checked before a run of ``scenario`` starts that needs the built workcell: the
+    reachability of every action (:func:`check_reachability`) in the cell as the file describes it."""
+    from ergosim.scenes import build_cell  # noqa: PLC0415
+
+    check_reachability(scenario, scenario.task(), build_cell(scenario.cell()))
+
+
+def _start_positions(task: AndOrGraph, cell) -> list[tuple[str, np.ndarray]]:
+    """(action, where its part lies when the action starts) [m, world], in an order the task allows (its
+    optimal plan with the file's costs): a part is where the last earlier action put it, a seated part
+    where its host is."""
+    slots = cell.config.slots()
+    at = {p: cell.body_pose(p)[0] for p in cell.parts}
+    host: dict[str, str] = {}
+
+    def where(part: str) -> np.ndarray:
+        while part in host:
+            part = host[part]
+        return at[part]
+
+    out = []
+    for step in task.plan().steps:
+        geom = cell.actions[step.action]
+        out.append((step.action, where(geom.part)))
+        if geom.seats:
+            host[geom.part] = slots[cell.config.action(step.action).target].host
+        else:
+            at[geom.part] = cell.site_pose(geom.target)[0]
+    return out
 
 
 def check_reachability(scenario, task: AndOrGraph, cell) -> None:
     """IK pre-check in the built workcell ``cell``: each robot-allowed action's grasp and target poses for
-    the robot, each worker-allowed action's part and target for a nominal worker of the cell's stature."""
+    the robot, each worker-allowed action's part and target for a nominal worker of the cell's stature,
+    with every part where the earlier actions leave it. An action no allowed agent reaches, or a robot
+    that reaches none of its actions, is a ConfigError naming the agent, the part and the action."""
     from ergosim.robot.ik import solve_ik  # noqa: PLC0415
     from ergosim.robot.kinematics import PandaKinematics  # noqa: PLC0415
 
-    where = scenario.source
+    src = cell.config.source
     robots = set(cell.robots)
     allowed: dict[str, set[str]] = {}
     for op in task.operations:
@@ -75,36 +115,37 @@ def check_reachability(scenario, task: AndOrGraph, cell) -> None:
     reach_human = _human_reach(cell)
     reached: dict[str, int] = {r: 0 for r in robots}
     tried: dict[str, int] = {r: 0 for r in robots}
-    for action in task.actions:
+    for action, part_pos in _start_positions(task, cell):
         geom = cell.actions[action]
-        part_pos, _ = cell.body_pose(geom.part)
-        points = [part_pos, cell.site_pose(geom.handover or geom.target)[0]]
+        target = cell.site_pose(geom.target)[0]
+        points = [part_pos, cell.site_pose(geom.handover)[0] if geom.handover else target]
         able = []
         for agent in sorted(allowed.get(action, ())):
             if agent == human:
-                if all(reach_human(p) for p in (part_pos, cell.site_pose(geom.target)[0])):
+                if all(reach_human(p) for p in (part_pos, target)):
                     able.append(agent)
             elif agent in robots:
                 tried[agent] += 1
-                if all(_robot_reaches(cell, kin, solve_ik, p) for p in points):
+                if all(_robot_reaches(cell, agent, kin, solve_ik, p) for p in points):
                     able.append(agent)
                     reached[agent] += 1
         if not able:
             who = " or ".join(sorted(allowed.get(action, ()))) or "no agent"
             raise ConfigError(f"{who} cannot reach {geom.part} for {action} (from "
-                              f"{np.round(part_pos, 2).tolist()} to {geom.handover or geom.target}); the run "
-                              "would fail", where=where)
+                              f"{np.round(part_pos, 2).tolist()} to {geom.handover or geom.target} at "
+                              f"{np.round(points[1], 2).tolist()}): the run would fail",
+                              where=f"{src}: actions.{action}")
     for robot in robots:
         if tried[robot] and not reached[robot]:
-            base = cell.robot_base_pose()[0]
+            base = cell.robot_base_pose(robot)[0]
             raise ConfigError(f"robot {robot!r} at {np.round(base, 2).tolist()} reaches none of the "
                               f"{tried[robot]} actions it may do; move its base or take it out of the task",
-                              where=where)
+                              where=f"{src}: robots.{robot}.base")
 
 
-def _robot_reaches(cell, kin, solve_ik, point: np.ndarray) -> bool:
-    """A top-down TCP pose 5 cm above ``point`` (world) within 1 cm of a solution."""
-    base_p, base_q = cell.robot_base_pose()
+def _robot_reaches(cell, robot: str, kin, solve_ik, point: np.ndarray) -> bool:
+    """A top-down TCP pose of ``robot`` 5 cm above ``point`` (world) within 1 cm of a solution."""
+    base_p, base_q = cell.robot_base_pose(robot)
     import mujoco  # noqa: PLC0415
 
     r = np.empty(9)

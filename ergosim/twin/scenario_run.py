@@ -11,25 +11,26 @@ run is interrupted (Ctrl-C or SIGTERM) or fails, everything finished so far is w
 from __future__ import annotations
 
 import concurrent.futures as cf
+import dataclasses
 import multiprocessing
 import os
 import time
 from pathlib import Path
 
 from ergosim.atomic import write_json
+from ergosim.plugins import extension_modules, import_extensions
 from ergosim.twin.interrupt import Interrupted, interrupt_on_signals, quiet_worker, signals_ignored, stop_pool
 from ergosim.twin.kwear_state import state_document
 from ergosim.twin.plots import write_plots
 from ergosim.twin.progress import Progress
 from ergosim.twin.recording import record_run
-from ergosim.twin.report import write_ticks
+from ergosim.twin.report import write_action_traces, write_subjects, write_summary, write_ticks
 from ergosim.twin.run_folder import RunFolder
-from ergosim.twin.run_summary import write_summary_files
-from ergosim.twin.runner import SubjectResult, run_subject, subject_cell
+from ergosim.twin.run_summary import summary_of, write_record_files
+from ergosim.twin.runner import SubjectResult, run_subject, scenario_subject, subject_cell
 from ergosim.twin.scenario import ScenarioConfig
 from ergosim.twin.scenariofile import Scenario
 from ergosim.twin.subject_records import SubjectRecord
-from ergosim.worker.subjects import make_subjects
 
 __all__ = ["run_scenario", "ScenarioResult", "EXIT_ABANDONED"]
 
@@ -43,37 +44,47 @@ class ScenarioResult:
     ``status``: ``complete`` or ``abandoned`` (see :mod:`ergosim.twin.run_folder`)."""
 
     def __init__(self, results: list[SubjectResult], summary: dict, out: Path, wall: float,
-                 status: str = "complete") -> None:
+                 status: str = "complete", video=None) -> None:
         self.results = results
         self.summary = summary
         self.out = out
         self.wall = wall
         self.status = status
+        self.video = video
+        """:class:`~ergosim.video.VideoStats` of the video made, or None."""
 
 
 def _job(args) -> SubjectResult:
-    scenario, index, seed, modes, record_mode = args
+    scenario, index, seed, modes, record_mode, extensions = args
+    import_extensions(extensions)  # a worker process registers the user's modes, indices, kinds too
     return run_subject(scenario, index, seed, modes, record_mode=record_mode)
 
 
 def _write(out: Path, name: str, seed: int, cfg: ScenarioConfig, results: list[SubjectResult],
-           complete: bool, final: bool, status: str = "running", subjects: range | None = None) -> dict:
+           complete: bool, final: bool, status: str = "running", plot_subjects=None,
+           subjects: range | None = None) -> dict:
     results = sorted(results, key=lambda r: r.subject)
-    subjects = subjects if subjects is not None else range(cfg.subjects)
-    summary = write_summary_files(out, name, seed, vars(cfg), [SubjectRecord.of(r) for r in results],
-                                  subject_range=(subjects.start, subjects.stop), complete=complete,
-                                  status=status)
+    # computed from the subject records (subject_records.json), as `ergosim merge` does for shards
+    records = [SubjectRecord.of(r) for r in results]
+    span = (subjects.start, subjects.stop) if subjects is not None else (0, cfg.subjects)
+    summary = summary_of(name, seed, vars(cfg), records, subject_range=span, complete=complete, status=status)
+    write_record_files(out, name, seed, vars(cfg), records, subject_range=span)
     if final:
         write_ticks(out / "ticks.csv", [run for r in results for run in r.runs.values()])
         _write_states(out, name, seed, cfg, results)
-        write_plots(out, name, results, cfg)
+        write_subjects(out / "subjects.csv", [(r.name, r.runs[m]) for m in cfg.modes for r in results
+                                              if m in r.runs])
+        write_action_traces(out / "kwear_actions.csv", [(r.subject, a, t, v) for r in results
+                                                        for a, (t, v) in sorted(r.traces.items())])
+        write_plots(out, subjects=plot_subjects)
+    write_summary(out / "summary.json", summary)
     return summary
 
 
 def _write_states(out: Path, name: str, seed: int, cfg: ScenarioConfig, results: list[SubjectResult]) -> None:
     """kwear_state_s<subject>_<mode>.json: the KWear state each run ended with (ergosim.twin.kwear_state)."""
     for r in results:
-        params = make_subjects(r.subject + 1, seed)[r.subject].kwear_params()
+        params = r.kwear_params
         for mode, run in r.runs.items():
             rows = run.ticks.rows
             doc = state_document(
@@ -87,15 +98,19 @@ def _write_states(out: Path, name: str, seed: int, cfg: ScenarioConfig, results:
 
 def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None = None, progress: bool = True,
                  recorder=None, record_subject: int = 0, record_mode: str | None = None,
+                 video=None, plot_subjects: tuple[int, ...] | None = None,
                  subjects: range | None = None) -> ScenarioResult:
     """Run ``scenario`` for its subjects and write summary.json, allocations.csv, failures.csv, ticks.csv,
     the KWear state files and PNGs into ``out``, which the run owns (run.json).
 
     ``recorder`` (an enabled :class:`~ergosim.viz.TwinRecorder`): subject ``record_subject``'s run in mode
     ``record_mode`` (default: the first mode) is logged to it (3-D workcell, joint angles, RULA, KWear,
-    decisions, failures) once the run is over. ``subjects``: run only these subjects of the population (a
-    shard, ``ergosim run --subject-range``; default all), each seeded as in the whole run. SIGINT and
-    SIGTERM stop the run the same way: the finished subjects are written, then
+    decisions, failures) once the run is over. ``video`` (a :class:`~ergosim.video.VideoRequest`): that
+    subject's run in that mode is rendered to an MP4 after every result is written. ``plot_subjects``: the
+    subjects the timelines and the per-action figure show (default: every subject). ``subjects``: run only
+    these subjects of the population (a shard, ``ergosim run --subject-range``; default all), each seeded
+    as in the whole run. SIGINT and SIGTERM stop the run the same way: the finished subjects are written,
+    then
     :class:`~ergosim.twin.interrupt.Interrupted` propagates.
     """
     name, cfg = scenario.name, scenario.protocol
@@ -106,8 +121,12 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
     folder.claim({k: v for k, v in vars(cfg).items()})
     subjects = subjects if subjects is not None else range(cfg.subjects)
     jobs = max(1, min(jobs or os.cpu_count() or 1, len(subjects)))
-    args = [(scenario, i, seed, tuple(cfg.modes), record_mode if i == record_subject else None)
-            for i in subjects]
+    kept = {(record_subject, record_mode)} if record_mode is not None else set()
+    if video is not None:
+        video = dataclasses.replace(video, mode=video.mode or cfg.modes[0])
+        kept.add((video.subject, video.mode))
+    args = [(scenario, i, seed, tuple(cfg.modes), tuple(sorted(m for s, m in kept if s == i)),
+             extension_modules()) for i in subjects]
     bar = Progress(len(subjects), f"{name}: subjects", enabled=progress)
     results: list[SubjectResult] = []
     start = time.monotonic()
@@ -127,7 +146,8 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
                 try:
                     for fut in cf.as_completed(futures):
                         results.append(fut.result())
-                        _write(out, name, seed, cfg, results, complete=False, final=False, subjects=subjects)
+                        _write(out, name, seed, cfg, results, complete=False, final=False,
+                               subjects=subjects)
                         bar.advance()
                 except BaseException:
                     stop_pool(pool)
@@ -148,7 +168,7 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
         with interrupt_on_signals():  # a second Ctrl-C while writing still leaves whole files
             if results:
                 summary = _write(out, name, seed, cfg, results, complete=status == "complete", final=True,
-                                 status=status, subjects=subjects)
+                                 status=status, plot_subjects=plot_subjects, subjects=subjects)
                 if summary["status"] == "abandoned":
                     status = "abandoned"
                     reason = f"{summary['repetitions_abandoned']} repetition(s) abandoned"
@@ -163,7 +183,16 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
     results.sort(key=lambda r: r.subject)
     chosen = [r for r in results if r.subject == record_subject]
     if record_mode is not None and chosen:
-        subject = make_subjects(record_subject + 1, seed)[record_subject]
+        subject = scenario_subject(scenario, record_subject, seed)
         cell = subject_cell(scenario, subject)
-        record_run(recorder, cell.model, chosen[0].runs[record_mode], cfg.v_th, cell.parts)
-    return ScenarioResult(results, summary, out, time.monotonic() - start, status)
+        view = cell.config.view()
+        record_run(recorder, cell.model, chosen[0].runs[record_mode], cfg.v_th, cell.parts,
+                   view=(view.azimuth, view.elevation))
+    filmed = None
+    chosen = [r for r in results if video is not None and r.subject == video.subject]
+    if chosen:
+        from ergosim.video.film import film_subject  # noqa: PLC0415 - only videos need the renderer
+
+        with interrupt_on_signals():  # SIGTERM too leaves no half-written video
+            filmed = film_subject(scenario, seed, chosen[0], video, progress=progress)
+    return ScenarioResult(results, summary, out, time.monotonic() - start, status, filmed)

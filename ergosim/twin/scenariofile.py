@@ -20,11 +20,13 @@ from ergosim.errors import ConfigError, TaskFileError
 from ergosim.overrides import apply_overrides
 from ergosim.planner import AndOrGraph, bundled_task_source, bundled_task_text, task_from_dict
 from ergosim.planner.bundled import BUNDLED_TASKS
+from ergosim.planner.task_overrides import apply_task_overrides
+from ergosim.plugins import note_caller
 from ergosim.scenes import CellSpec, apply_cell_overrides, cell_document, parse_cell
 from ergosim.scenes.cellfile import read_toml
 from ergosim.twin.scenario import ScenarioConfig
 
-__all__ = ["Scenario", "register_scenario", "scenario_names", "scenario_path", "scenario_description",
+__all__ = ["Scenario", "register_scenario", "scenario_names", "scenario_path", "scenario_info",
            "load_scenario", "scenario_config", "split_overrides"]
 
 _TOP = {"name", "description", "task", "workcell", "protocol"}
@@ -34,7 +36,9 @@ _SCENARIOS: dict[str, Path] = {}
 
 
 def register_scenario(name: str, path: str | os.PathLike[str]) -> None:
-    """Make the scenario file at ``path`` runnable by ``name`` (``ergosim run NAME``)."""
+    """Make the scenario file at ``path`` runnable by ``name`` (``ergosim run NAME``, ``ergosim
+    scenarios``)."""
+    note_caller()
     _SCENARIOS[name] = Path(path)
 
 
@@ -58,9 +62,19 @@ def scenario_path(name_or_path: str | os.PathLike[str]) -> Path:
                       "(or the path of a scenario file)", where="ergosim run")
 
 
-def scenario_description(name: str) -> str:
-    doc = read_toml(scenario_path(name), what="scenario file")
-    return str(doc.get("description", ""))
+def scenario_info(name: str) -> dict[str, Any]:
+    """What ``ergosim scenarios`` shows of scenario ``name``, read from its file alone (nothing is built):
+    name, description, task, workcell, subjects, repetitions, modes and the file's path."""
+    path = scenario_path(name)
+    doc = read_toml(path, what="scenario file")
+    protocol = doc.get("protocol") if isinstance(doc.get("protocol"), dict) else {}
+    modes = protocol.get("modes", ())
+    return {"name": name, "description": str(doc.get("description", "")),
+            "task": doc.get("task") if isinstance(doc.get("task"), str) else "(inline)",
+            "workcell": doc.get("workcell") if isinstance(doc.get("workcell"), str) else "(inline)",
+            "subjects": protocol.get("subjects"), "repetitions": protocol.get("repetitions"),
+            "modes": [str(m) for m in modes] if isinstance(modes, list) else [str(modes)],
+            "path": str(path)}
 
 
 @dataclasses.dataclass(frozen=True)
@@ -81,40 +95,78 @@ class Scenario:
         return task_from_dict(dict(self.task_doc), source=self.task_source)
 
     def cell(self, **extra: Any) -> CellSpec:
-        """The workcell with ``extra`` (e.g. a subject's body) and then the scenario's overrides applied."""
+        """The workcell with ``extra`` (e.g. a subject's body) and then the scenario's overrides applied.
+        Messages name the file with the overrides, e.g. ``multi-subject.toml (with
+        scene.side_table_height=1.15)``, so a problem an override made says which one."""
         overrides = {**extra, **dict(self.cell_overrides)}
         doc = apply_cell_overrides(self.cell_doc, overrides, where=f"{self.cell_source} (overrides)")
-        return parse_cell(doc, source=self.cell_source)
+        said = ", ".join(f"scene.{k}={_said(v)}" for k, v in self.cell_overrides.items())
+        return parse_cell(doc, source=f"{self.cell_source} (with {said})" if said else self.cell_source)
 
     def with_overrides(self, overrides: Mapping[str, Any], where: str = "--set") -> Scenario:
-        """A copy with protocol fields and workcell fields overridden (see :func:`split_overrides`)."""
-        own, cell = split_overrides(overrides)
-        protocol = apply_overrides(self.protocol, own, where=where) if own else self.protocol
+        """A copy with any field overridden by its ``--set`` key (see :func:`split_overrides`): the task or
+        the workcell swapped for another (``task=FILE``, ``workcell=NAME``), a field of the task
+        (``task.agents.robot.cost=3``), of the workcell (``scene.parts.L.xy=0.2,0.8`` or an alias such as
+        ``scene.l_xy``) or of the protocol (``takt=40``). Everything is checked now, before any physics."""
+        groups = split_overrides(overrides)
+        new = self
+        base = Path.cwd()
+        if "task" in groups["refs"]:
+            doc, source, label = _resolve_task(groups["refs"]["task"], base, f"{where} task")
+            new = dataclasses.replace(new, task_doc=doc, task_source=source,
+                                      protocol=dataclasses.replace(new.protocol, task=label))
+        if "workcell" in groups["refs"]:
+            doc, source = _resolve_cell(groups["refs"]["workcell"], base, f"{where} workcell")
+            label = parse_cell(doc, source).name
+            new = dataclasses.replace(new, cell_doc=doc, cell_source=source,
+                                      protocol=dataclasses.replace(new.protocol, scene=label))
+        if groups["task"]:
+            said = ", ".join(f"task.{k}={_said(v)}" for k, v in groups["task"].items())
+            doc = apply_task_overrides(new.task_doc, groups["task"], where=f"{new.task_source} ({where})")
+            new = dataclasses.replace(new, task_doc=doc, task_source=f"{new.task_source} (with {said})")
+        own = groups["protocol"]
+        protocol = apply_overrides(new.protocol, own, where=where) if own else new.protocol
         protocol.validate(where=where)
-        new = dataclasses.replace(self, protocol=protocol,
-                                  cell_overrides={**dict(self.cell_overrides), **cell})
-        if cell:
-            new.cell()  # a bad workcell key or value fails now, before any simulation
+        new = dataclasses.replace(new, protocol=protocol,
+                                  cell_overrides={**dict(new.cell_overrides), **groups["cell"]})
+        if new is not self and (groups["cell"] or groups["task"] or groups["refs"]):
+            from ergosim.twin.scenario_check import check_scenario  # noqa: PLC0415
+
+            check_scenario(new, new.task(), new.cell())  # a bad key or value fails now, before any physics
         return new
 
 
-def split_overrides(overrides: Mapping[str, Any]) -> tuple[dict[str, Any], dict[str, Any]]:
-    """(protocol overrides, workcell overrides): ``scene.K``/``workcell.K`` go to the workcell as ``K``,
-    ``protocol.K`` and bare keys to the protocol."""
-    own, cell = {}, {}
+def _said(value: Any) -> str:
+    """An override value as ``--set`` would spell it."""
+    if isinstance(value, list | tuple):
+        return ",".join(_said(v) for v in value)
+    return str(value)
+
+
+def split_overrides(overrides: Mapping[str, Any]) -> dict[str, dict[str, Any]]:
+    """Overrides by ``--set`` key into groups: ``refs`` (``task=``, ``workcell=``: another task or workcell,
+    by bundled name or file), ``task`` (``task.PATH``: a field of the task document), ``cell``
+    (``scene.PATH`` or ``workcell.PATH``: a field of the workcell, or an alias), ``protocol`` (a bare key or
+    ``protocol.KEY``)."""
+    groups: dict[str, dict[str, Any]] = {"refs": {}, "task": {}, "cell": {}, "protocol": {}}
     for key, value in overrides.items():
         head, _, rest = key.partition(".")
         if head in ("scene", "workcell") and rest:
-            cell[rest] = value
+            groups["cell"][rest] = value
+        elif head == "task" and rest:
+            groups["task"][rest] = value
         elif head == "protocol" and rest:
-            own[rest] = value
+            if rest in _LABEL_FIELDS:
+                raise ConfigError(f"{key!r} is a label set from the scenario's task and workcell; set "
+                                  "task=FILE or workcell=FILE to use others", where="--set")
+            groups["protocol"][rest] = value
+        elif key in ("task", "workcell"):
+            groups["refs"][key] = value
+        elif key == "scene":
+            groups["refs"]["workcell"] = value
         else:
-            own[key] = value
-    if any(k in _LABEL_FIELDS for k in own):
-        bad = next(k for k in own if k in _LABEL_FIELDS)
-        origin = "workcell" if bad == "scene" else "task"
-        raise ConfigError(f"{bad!r} is set by the scenario file's {origin}, not by --set", where="--set")
-    return own, cell
+            groups["protocol"][key] = value
+    return groups
 
 
 def _resolve_task(value: Any, base: Path, where: str) -> tuple[dict[str, Any], str, str]:

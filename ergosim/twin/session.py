@@ -20,7 +20,7 @@ from ergosim.twin.modes import get_mode
 from ergosim.twin.records import Allocation, Failure, RepetitionOutcome, SubjectRun
 from ergosim.worker.motion import Worker
 
-__all__ = ["Session"]
+__all__ = ["Session", "Outcome"]
 
 # Time allowed to any single action before it counts as failed [s of simulated time]; the slowest robot
 # action at 0.05 m/s takes about 30 s, the slowest human action about 8 s.
@@ -30,8 +30,12 @@ _ACTION_TIMEOUT = 180.0
 _HUMAN_ATTEMPTS = 3
 
 
-@dataclasses.dataclass
-class _Outcome:
+@dataclasses.dataclass(frozen=True)
+class Outcome:
+    """How one attempt at an action ended: ``ok`` when the scene's completion check of the action's kind
+    passed; ``status`` ``ok`` or the failure (a robot skill's status, or the worker's ``unreachable (N cm
+    short)``, ``not_completed``, ``timeout``); sim times [s]; ``message`` in words."""
+
     ok: bool
     status: str
     t_start: float
@@ -50,7 +54,9 @@ class Session:
         self.worker = worker
         self.plant = plant
         self.cell = plant.cell
-        self.robot = robot
+        # the robots by name (the task's robot agents); one RobotTrack is the cell's only robot
+        self.robots = dict(robot) if isinstance(robot, dict) else ({robot.name: robot} if robot else {})
+        self.robot = next(iter(self.robots.values()), None)  # the one acting now
         self.allocator = allocator
         self.rng = rng
         self.hand = f"human_{worker.side}"
@@ -61,13 +67,8 @@ class Session:
 
     # -- completion, detected in the scene -----------------------------------------------------------------
     def completed(self, geom) -> bool:
-        if geom.seats:
-            return self.cell.is_seated(geom.part)
-        if self.cell.holder_of(geom.part) is not None:
-            return False
-        pos, _ = self.cell.body_pose(geom.part)
-        target, _ = self.cell.site_pose(geom.target)
-        return float(np.linalg.norm(pos - target)) <= self.cell.config.place_tolerance
+        """The scene's completion check of the action's kind (:meth:`Workcell.action_done`)."""
+        return self.cell.action_done(geom)
 
     def _settle(self, geom, seconds: float = 1.0) -> bool:
         """Let a released part come to rest, then check completion (the scene decides, not a timer)."""
@@ -95,16 +96,16 @@ class Session:
         eq = cell.model.equality(weld_name(self.hand, body)).id
         return InHandTurn(cell.model, eq, pos1, quat1, start, end)
 
-    def _worker_action(self, geom, handover: bool = False) -> _Outcome:
+    def _worker_action(self, geom, handover: bool = False) -> Outcome:
         plant, cell = self.plant, self.cell
         t0 = plant.time
         motion = self.worker.plan(cell, geom, self.rng, action=geom.action, handover=handover)
         if motion.reach_error > cell.config.grasp_tolerance:
             # The hand cannot get to the part from where the worker stands: the action is not done (and the
             # part is not dragged to the hand by the grasp weld).
-            return _Outcome(False, f"unreachable ({motion.reach_error * 100:.0f} cm short)", t0, plant.time)
+            return Outcome(False, f"unreachable ({motion.reach_error * 100:.0f} cm short)", t0, plant.time)
         plant.track.start_action(motion)
-        grasp_part = cell.grasp_body(geom.part) if geom.kind == "remove" else geom.part
+        grasp_part = cell.grasp_body(geom.part) if geom.moves_assembly else geom.part
 
         # The worker's motion is kinematic and not collision-planned, like the human body itself: what the
         # worker carries (the grasped part, or the whole assembly) passes through the furniture and the robot
@@ -121,6 +122,8 @@ class Session:
             cell.pass_through(carried, False)
             if geom.seats:
                 cell.seat(geom.part)
+            elif geom.received:
+                cell.receive(geom.part, cell.site_pose(geom.target)[0])
 
         plant.on_grasp, plant.on_release = on_grasp, on_release
         plant.frame_hook = self._in_hand_turn(motion, geom, grasp_part)
@@ -131,10 +134,10 @@ class Session:
             cell.pass_through(carried, False)
         ok = finished and self._settle(geom, 0.5)
         status = "ok" if ok else ("timeout" if not finished else "not_completed")
-        return _Outcome(ok, status, t0, plant.time)
+        return Outcome(ok, status, t0, plant.time)
 
     # -- the robot does an action --------------------------------------------------------------------------
-    def _robot_action(self, geom) -> _Outcome:
+    def _robot_action(self, geom) -> Outcome:
         plant = self.plant
         t0 = plant.time
         self.robot.start(geom, plant)
@@ -146,20 +149,34 @@ class Session:
             # The worker takes the part from the gripper and inserts it (paper §7.2, Fig. 8 bottom).
             out = self._worker_action(geom, handover=True)
             plant.run_until(lambda: self.robot.done, _ACTION_TIMEOUT)
-            return _Outcome(out.ok, out.status, t0, plant.time,
+            return Outcome(out.ok, out.status, t0, plant.time,
                             "" if out.ok else f"the worker did not complete the handover ({out.status})")
         if not plant.run_until(lambda: self.robot.done, _ACTION_TIMEOUT):
-            return _Outcome(False, "timeout", t0, plant.time)
+            return Outcome(False, "timeout", t0, plant.time)
         if not self.robot.ok:
             return self._robot_failure(t0)
         if geom.seats:
             self.cell.seat(geom.part)
         ok = self._settle(geom, 1.0)
-        return _Outcome(ok, "ok" if ok else "not_completed", t0, plant.time)
+        return Outcome(ok, "ok" if ok else "not_completed", t0, plant.time)
 
-    def _robot_failure(self, t0: float) -> _Outcome:
+    def _robot_failure(self, t0: float) -> Outcome:
         self.plant.run_until(lambda: self.robot.done, _ACTION_TIMEOUT)
-        return _Outcome(False, self.robot.status_name, t0, self.plant.time, self.robot.message)
+        return Outcome(False, self.robot.status_name, t0, self.plant.time, self.robot.message)
+
+    def perform(self, action: str, agent: str) -> Outcome:
+        """``agent`` does ``action`` now, from the scene as it is: the worker's planned motion (KWear counting
+        it as the action, eq. 3) or the robot's skill, then the scene's completion check of the action's
+        kind. Nothing is decided or recorded; :meth:`run` calls this for every decision."""
+        geom = self.cell.actions[action]
+        if agent != self.allocator.human:
+            self.robot = self.plant.robot = self.robots[agent]  # the plant steps the acting robot's skill
+            return self._robot_action(geom)
+        self.plant.kwear.start_action(action)
+        try:
+            return self._worker_action(geom)
+        finally:
+            self.plant.kwear.finish_action()  # the online α update of §5, when enabled
 
     # -- repetitions ---------------------------------------------------------------------------------------
     def _repetition(self, rep: int) -> bool:
@@ -178,13 +195,7 @@ class Session:
             if decision is None:
                 return True
             self.decisions.append(decision)
-            geom = self.cell.actions[decision.action]
-            if decision.agent == alloc.human:
-                plant.kwear.start_action(decision.action)
-                out = self._worker_action(geom)
-                plant.kwear.finish_action()  # the online α update of §5, when enabled
-            else:
-                out = self._robot_action(geom)
+            out = self.perform(decision.action, decision.agent)
             attempt = sum(a.action == decision.action for a in self.allocations if a.repetition == rep) + 1
             if out.ok:
                 done.append(decision.operation)
@@ -203,7 +214,7 @@ class Session:
             self.allocations.append(Allocation(
                 subject=self.subject_index, mode=self.mode, repetition=rep, order=order,
                 action=decision.action, agent=decision.agent,
-                human_cost=decision.cost_of(alloc.human), robot_cost=decision.cost_of(alloc.robot),
+                human_cost=decision.cost_of(alloc.human), robot_cost=self._robot_cost(decision),
                 t_start=out.t_start, t_end=out.t_end, had_choice=decision.had_choice,
                 status="done" if out.ok else f"failed:{_reason(out.status)}", attempt=attempt,
                 forced=self._forced(decision), allocatable=len(alloc.allowed[decision.action]) > 1,
@@ -213,7 +224,9 @@ class Session:
     def run(self, repetitions: int) -> SubjectRun:
         plant, cfg = self.plant, self.cfg
         completed = overruns = 0
-        wait = get_mode(self.mode).waits_for_takt  # paper §7.2: H-only workers wait for the takt
+        # a takt-paced line starts every repetition at its takt slot (paper §7.2: "we fixed the takt time for
+        # the two experimental conditions"); H-only workers wait for the takt whatever the line
+        wait = cfg.takt_paced or get_mode(self.mode).waits_for_takt
         for rep in range(1, repetitions + 1):
             slot = (rep - 1) * cfg.takt
             if wait and plant.time < slot:
@@ -247,10 +260,18 @@ class Session:
             subject=self.subject_index, mode=self.mode, allocations=self.allocations, ticks=plant.log,
             repetitions_completed=completed, takt_overruns=overruns, dt_tick=plant.dt_tick, v_th=cfg.v_th,
             failures=self.failures, decisions=self.decisions, bodies=bodies, horizon=horizon,
-            outcomes=self.outcomes,
+            outcomes=self.outcomes, human=self.allocator.human,
         )
 
     # -- what the outputs say about an attempt -------------------------------------------------------------
+    def _robot_cost(self, decision: Decision) -> float:
+        """The cost of the robot that got the action, else of the cheapest robot (NaN without costs)."""
+        alloc = self.allocator
+        if decision.agent in alloc.robots:
+            return decision.cost_of(decision.agent)
+        costs = [decision.cost_of(r) for r in alloc.robots]
+        return min(costs, key=lambda c: (np.isnan(c), c)) if costs else float("nan")
+
     def _forced(self, decision: Decision) -> str:
         """The agent, if the task and mode allow more than one agent for the action but failures in this
         repetition pruned every other one; else ""."""

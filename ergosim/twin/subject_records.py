@@ -50,6 +50,12 @@ class RunRecord:
     kwear_mean: float
     time_above_threshold: float
     duration: float
+    human: str = "human"
+    """The task's name for the worker; every other agent of the records is a robot."""
+
+    def by_robot(self, agent: str) -> bool:
+        """``agent`` (of an allocation or a failure) is one of the robots (not the worker, not empty)."""
+        return agent not in (self.human, "")
 
     @classmethod
     def of(cls, run: SubjectRun) -> RunRecord:
@@ -58,7 +64,7 @@ class RunRecord:
                    repetitions_completed=run.repetitions_completed, takt_overruns=run.takt_overruns,
                    kwear_integral=run.kwear_integral, kwear_integral_run=run.kwear_integral_run,
                    kwear_mean=run.kwear_mean, time_above_threshold=run.time_above_threshold,
-                   duration=run.duration)
+                   duration=run.duration, human=run.human)
 
     def to_dict(self) -> dict[str, Any]:
         out = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
@@ -83,7 +89,8 @@ class RunRecord:
 
 @dataclasses.dataclass(frozen=True)
 class SubjectRecord:
-    """One subject: its name, calibration figures (η, max error, G(a_k), α per action) and runs per mode."""
+    """One subject: its name, calibration figures (η, max error, G(a_k), α per action, the MTM-1 analysis of
+    each action's first execution) and runs per mode."""
 
     subject: int
     name: str
@@ -92,20 +99,22 @@ class SubjectRecord:
     alphas: Mapping[str, list[float]]
     rula_g: Mapping[str, float]
     runs: Mapping[str, RunRecord]
+    mtm: Mapping[str, str] = dataclasses.field(default_factory=dict)
 
     @classmethod
     def of(cls, result) -> SubjectRecord:
         """The record of a :class:`~ergosim.twin.runner.SubjectResult`."""
         return cls(subject=result.subject, name=result.name, eta=dict(result.eta),
                    calibration_errors=dict(result.calibration_errors), alphas=dict(result.alphas),
-                   rula_g=dict(result.rula_g), runs={m: RunRecord.of(r) for m, r in result.runs.items()})
+                   rula_g=dict(result.rula_g), runs={m: RunRecord.of(r) for m, r in result.runs.items()},
+                   mtm=dict(result.mtm))
 
     def to_dict(self) -> dict[str, Any]:
         return {"subject": self.subject, "name": self.name, "eta": dict(self.eta),
                 "calibration_errors": {k: _enc(v) for k, v in self.calibration_errors.items()},
                 "alphas": {k: [_enc(x) for x in v] for k, v in self.alphas.items()},
                 "rula_g": {k: _enc(v) for k, v in self.rula_g.items()},
-                "runs": {m: r.to_dict() for m, r in self.runs.items()}}
+                "runs": {m: r.to_dict() for m, r in self.runs.items()}, "mtm": dict(self.mtm)}
 
     @classmethod
     def from_dict(cls, doc: Mapping[str, Any]) -> SubjectRecord:
@@ -113,7 +122,8 @@ class SubjectRecord:
                    calibration_errors={k: float(_dec(v)) for k, v in doc["calibration_errors"].items()},
                    alphas={k: [float(_dec(x)) for x in v] for k, v in doc["alphas"].items()},
                    rula_g={k: float(_dec(v)) for k, v in doc["rula_g"].items()},
-                   runs={m: RunRecord.from_dict(r) for m, r in doc["runs"].items()})
+                   runs={m: RunRecord.from_dict(r) for m, r in doc["runs"].items()},
+                   mtm=dict(doc.get("mtm", {})))
 
 
 def _enc(value: Any) -> Any:

@@ -7,6 +7,8 @@ repetition, and each mode's allocation table has a labelled row per subject and 
 
 from __future__ import annotations
 
+from ergosim.twin.modes import mode_or_default
+
 __all__ = ["summary_text", "warning_lines"]
 
 _LEGEND = "H worker, R robot, * forced, ! after a failed attempt, - not done, x no agent left"
@@ -90,7 +92,7 @@ def summary_text(summary: dict, cfg) -> str:
             lines.append(f"Wilcoxon signed-rank ({w['metric']}, hrc vs h-only, n={w['n']}): "
                          f"W = {w['statistic']:g}, p = {w['p']:.3g}")
     for mode, m in modes.items():
-        if mode != "h-only" or m.get("repetitions_abandoned") or m.get("worker_failures"):
+        if mode_or_default(mode).uses_robot or m.get("repetitions_abandoned") or m.get("worker_failures"):
             lines.extend(_table(mode, m.get("allocation_rows", []), actions))
     cal = summary.get("calibration", {})
     etas = cal.get("eta_by_subject", [])

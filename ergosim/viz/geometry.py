@@ -74,11 +74,12 @@ class SceneBody:
 
 
 def default_body_groups(model: mujoco.MjModel, parts: Sequence[str] = ()) -> dict[str, str]:
-    """Groups by the workcells' naming: ``panda_*`` robot, ``human_*`` human, ``parts`` parts, else scene."""
+    """Groups by the workcells' naming: ``panda_*`` robot (a second robot's ``<name>.panda_*`` too),
+    ``human_*`` human, ``parts`` parts, else scene."""
     groups = {}
     for b in range(1, model.nbody):
         name = model.body(b).name
-        if name.startswith("panda_"):
+        if name.split(".")[-1].startswith("panda_"):
             groups[name] = "robot"
         elif name.startswith("human_"):
             groups[name] = "human"

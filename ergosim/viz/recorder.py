@@ -21,7 +21,9 @@ from ergosim.ergonomics.rula import RULA_PARTS
 from ergosim.errors import RecordingError
 from ergosim.posture import ANGLE_NAMES, KWEAR_JOINTS
 from ergosim.viz import paths, styles
+from ergosim.viz.blueprint import build_blueprint
 from ergosim.viz.columns import ColumnBuffer
+from ergosim.viz.eye import frame_scene
 from ergosim.viz.geometry import SceneBody, scene_bodies
 from ergosim.viz.paths import join
 from ergosim.viz.quat import wxyz_to_xyzw
@@ -70,10 +72,14 @@ class TwinRecorder:
         return {b.name: b.entity for b in self._bodies}
 
     # -- once -----------------------------------------------------------------------------------------------
-    def log_static(self, model: mujoco.MjModel, *, v_th: np.ndarray, body_groups: Mapping[str, str]) -> None:
+    def log_static(self, model: mujoco.MjModel, *, v_th: np.ndarray, body_groups: Mapping[str, str],
+                   view: tuple[float, float] | None = None, max_cost: float | None = None) -> None:
         """Scene geometry, series styles and the KWear thresholds ``v_th`` (5,) in KWEAR_JOINTS order.
 
-        ``body_groups``: body name -> robot | human | parts | scene (bodies left out are scene).
+        ``body_groups``: body name -> robot | human | parts | scene (bodies left out are scene). ``view``:
+        (azimuth, elevation) [deg] the 3-D view looks from (the workcell's camera view), framing every
+        visible geom (:func:`~ergosim.viz.eye.frame_scene`); the blueprint is sent again with that eye.
+        ``max_cost``: the largest hyper-arc cost the recording will hold, which scales the costs' plot.
         """
         v_th = np.asarray(v_th, dtype=float)
         if v_th.shape != (_M,):
@@ -86,6 +92,9 @@ class TwinRecorder:
         s.log(paths.WORLD, rr.ViewCoordinates.RIGHT_HAND_Z_UP, static=True)
         log_scene(s, self._bodies)
         self._series_static()
+        scaled = max_cost is not None and np.isfinite(max_cost) and max_cost > 0
+        costs = (0.0, 1.1 * max_cost) if scaled else None
+        s.send_blueprint(build_blueprint(frame_scene(model, *(view or ())), cost_range=costs))
 
     def log_ergonomics_static(self, *, v_th: np.ndarray) -> None:
         """Series styles and the KWear thresholds ``v_th`` (5,) for a recording without a scene (a replayed
@@ -98,11 +107,19 @@ class TwinRecorder:
         if self._stream is not None:
             self._series_static()
 
+    @property
+    def _one_threshold(self) -> bool:
+        """Every joint has the same V_th: one line, ``ergonomics/kwear_threshold``, instead of five."""
+        return bool(np.all(self._v_th == self._v_th[0]))
+
     def _series_static(self) -> None:
         s = self._stream
+        if self._one_threshold:
+            s.log(paths.KWEAR_THRESHOLD, styles.threshold_style(None), static=True)
         for joint in KWEAR_JOINTS:
             s.log(join(paths.KWEAR, joint), styles.kwear_style(joint), static=True)
-            s.log(join(paths.KWEAR_THRESHOLD, joint), styles.threshold_style(joint), static=True)
+            if not self._one_threshold:
+                s.log(join(paths.KWEAR_THRESHOLD, joint), styles.threshold_style(joint), static=True)
             s.log(join(paths.V_NOW, joint), styles.decision_style(f"V {joint}", styles.JOINT_COLORS[joint]),
                   static=True)
         for part in (*RULA_PARTS, "grand"):
@@ -206,12 +223,14 @@ class TwinRecorder:
             self._style(entity, f"{action} {agent}", styles.agent_color(agent))
             buf.scalars(entity, t, rep, np.array([float(cost)]))
 
-    def log_event(self, sim_time: float, repetition: int, text: str, level: str = "WARN") -> None:
-        """A line in the allocation text log at ``sim_time`` [s], e.g. a failed attempt (``level`` WARN) or
-        an abandoned repetition. Sent with the next flush."""
+    def log_event(self, sim_time: float, repetition: int, text: str, level: str = "WARN",
+                  color: tuple[int, int, int] | None = None) -> None:
+        """A line in the allocation text log at ``sim_time`` [s], e.g. a failed attempt (``level`` WARN, in
+        orange) or a repetition starting (``INFO``, in ``color``). Sent with the next flush."""
         if self._stream is None:
             return
-        self._buffer.text(paths.ALLOCATION_LOG, float(sim_time), int(repetition), text, _EVENT_COLOR, level)
+        self._buffer.text(paths.ALLOCATION_LOG, float(sim_time), int(repetition), text,
+                          _EVENT_COLOR if color is None else color, level)
 
     def _style(self, entity: str, name: str, color: tuple[int, int, int]) -> None:
         if entity not in self._styled:
@@ -224,9 +243,13 @@ class TwinRecorder:
             return
         if self._span:
             (t0, r0), (t1, r1) = self._span
-            for j, joint in enumerate(KWEAR_JOINTS):
-                self._buffer.scalars(join(paths.KWEAR_THRESHOLD, joint), np.array([t0, t1]),
-                                     np.array([r0, r1]), np.full(2, self._v_th[j]))
+            times, reps = np.array([t0, t1]), np.array([r0, r1])
+            if self._one_threshold:
+                self._buffer.scalars(paths.KWEAR_THRESHOLD, times, reps, np.full(2, self._v_th[0]))
+            else:
+                for j, joint in enumerate(KWEAR_JOINTS):
+                    self._buffer.scalars(join(paths.KWEAR_THRESHOLD, joint), times, reps,
+                                         np.full(2, self._v_th[j]))
         self._buffer.send(self._stream)
         self._span = None
         self._pending = 0

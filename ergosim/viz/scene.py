@@ -67,7 +67,7 @@ def _primitives(kind: str, visuals: Sequence[Visual]) -> rr.AsComponents:
     for i, v in enumerate(visuals):
         mujoco.mju_rotVecQuat(start[i], np.array([0.0, 0.0, -v.size[1]]), v.quat)
     return rr.Capsules3D(lengths=2 * size[:, 1], radii=size[:, 0], translations=pos + start, quaternions=quat,
-                         colors=colors, labels=labels, show_labels=False)
+                         colors=colors, labels=labels, show_labels=False, fill_mode="solid")
 
 
 def _mesh(v: Visual) -> rr.AsComponents:

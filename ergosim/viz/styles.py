@@ -37,8 +37,11 @@ def kwear_style(joint: str) -> rr.SeriesLines:
     return rr.SeriesLines(colors=[JOINT_COLORS[joint]], names=[joint], widths=[2.0])
 
 
-def threshold_style(joint: str) -> rr.SeriesLines:
-    """The V_th line: the joint's colour, faded and thin."""
+def threshold_style(joint: str | None) -> rr.SeriesLines:
+    """The V_th line: the joint's colour, faded and thin; ``None``: the one line shared by every joint, dark
+    grey."""
+    if joint is None:
+        return rr.SeriesLines(colors=[(60, 60, 60, 200)], names=["V_th"], widths=[1.5])
     return rr.SeriesLines(colors=[(*JOINT_COLORS[joint], 140)], names=[f"V_th {joint}"], widths=[1.0])
 
 

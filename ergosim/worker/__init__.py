@@ -1,6 +1,7 @@
 """The simulated worker: IK with natural priors, minimum-jerk motion, subjects, mocap stream, BVH recordings,
 and the replay of recordings through RULA and KWear."""
 
+from ergosim.worker.action_timing import ActionTiming, action_timing
 from ergosim.worker.bvh import Recording, load_bvh, read_bvh_text, save_bvh
 from ergosim.worker.ergonomics_tick import (
     REPLAY_COLUMNS,
@@ -10,7 +11,7 @@ from ergosim.worker.ergonomics_tick import (
     tick_indices,
 )
 from ergosim.worker.ik import IKPrior, IKSolution, UpperBodyIK, default_prior, log_so3
-from ergosim.worker.minimum_jerk import fitts_duration, interpolate_keyframes, min_jerk, min_jerk_velocity
+from ergosim.worker.minimum_jerk import interpolate_keyframes, min_jerk, min_jerk_velocity
 from ergosim.worker.motion import ActionMotion, Phase, SceneView, Worker
 from ergosim.worker.stream import MocapFrames, MocapStream, MotionPlayback
 from ergosim.worker.subjects import Subject, make_subject, make_subjects, rest_angles
@@ -25,7 +26,8 @@ __all__ = [
     "UpperBodyIK",
     "default_prior",
     "log_so3",
-    "fitts_duration",
+    "ActionTiming",
+    "action_timing",
     "interpolate_keyframes",
     "min_jerk",
     "min_jerk_velocity",

@@ -1,16 +1,15 @@
-"""Minimum-jerk timing and Fitts-like movement durations.
+"""Minimum-jerk transitions between key poses.
 
 A point-to-point human reach follows the minimum-jerk profile (Flash & Hogan 1985, J Neurosci 5:1688):
 ``s(tau) = 10 tau^3 - 15 tau^4 + 6 tau^5`` for normalised time tau in [0, 1], zero velocity and
-acceleration at both ends. Its duration grows with the distance to the target and shrinks with the target's
-size, as in Fitts' law in Shannon's form (MacKenzie 1992): ``T = a + b log2(1 + D / W)``.
+acceleration at both ends. Segment durations come from MTM-1 (:mod:`ergosim.worker.action_timing`).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["min_jerk", "min_jerk_velocity", "fitts_duration", "interpolate_keyframes"]
+__all__ = ["min_jerk", "min_jerk_velocity", "interpolate_keyframes"]
 
 
 def min_jerk(tau: np.ndarray) -> np.ndarray:
@@ -23,18 +22,6 @@ def min_jerk_velocity(tau: np.ndarray) -> np.ndarray:
     """ds/dtau of the minimum-jerk profile (multiply by 1/T for a rate in 1/s); peak 1.875 at tau = 0.5."""
     t = np.clip(tau, 0.0, 1.0)
     return 30.0 * t * t * (1.0 - t) ** 2
-
-
-def fitts_duration(distance: float | np.ndarray, width: float = 0.02, a: float = 0.2, b: float = 0.12,
-                   speed: float = 1.0) -> float | np.ndarray:
-    """Movement time [s] for a reach of ``distance`` [m] to a target of ``width`` [m].
-
-    ``a`` [s] and ``b`` [s/bit] are Fitts' constants (typical arm-reaching values); ``speed`` > 1 is a faster
-    person (all times divided by it).
-    """
-    d = np.maximum(np.asarray(distance, dtype=float), 0.0)
-    t = (a + b * np.log2(1.0 + d / width)) / speed
-    return float(t) if np.ndim(t) == 0 else t
 
 
 def interpolate_keyframes(key_times: np.ndarray, key_values: np.ndarray, t: np.ndarray) -> np.ndarray:

@@ -6,7 +6,8 @@ handover pose) -> carry it to where it is inserted or placed -> release -> retur
 The part and target poses are read from the scene when the action is planned (never constants). Whole-body
 postures come from :class:`~ergosim.worker.ik.UpperBodyIK` at six key poses (above the part, at the part,
 lifted, above the target, at the target, retreated); between key poses the canonical angles follow
-minimum-jerk transitions timed by a Fitts-like law (:mod:`ergosim.worker.minimum_jerk`). The IK runs on the
+minimum-jerk transitions (:mod:`ergosim.worker.minimum_jerk`) timed by MTM-1 element times
+(:mod:`ergosim.worker.action_timing`). The IK runs on the
 subject's own standalone human model; poses are moved between the scene's world frame and the human's frame
 through the pose of ``human_pelvis`` in the scene.
 """
@@ -19,8 +20,9 @@ from typing import Any, NamedTuple, Protocol
 import mujoco
 import numpy as np
 
+from ergosim.worker.action_timing import action_timing
 from ergosim.worker.ik import UpperBodyIK, log_so3
-from ergosim.worker.minimum_jerk import fitts_duration, interpolate_keyframes
+from ergosim.worker.minimum_jerk import interpolate_keyframes
 from ergosim.worker.subjects import Subject, rest_angles
 
 __all__ = ["SceneView", "Phase", "ActionMotion", "Worker"]
@@ -63,6 +65,8 @@ class ActionMotion:
     reach_error: float
     place_error: float
     place_rot_error_deg: float
+    mtm: str = ""
+    """The action's MTM-1 analysis (:class:`~ergosim.worker.action_timing.ActionTiming`)."""
 
     @property
     def duration(self) -> float:
@@ -78,11 +82,9 @@ def _quat_to_mat(quat: np.ndarray) -> np.ndarray:
 class Worker:
     """Plans actions for one subject. ``rate``: mocap rate of the produced trajectories [Hz]."""
 
-    GRASP_DWELL = 0.35  # s, closing the hand on a part lying still
-    HANDOVER_DWELL = 0.5  # s, taking a part from the robot's gripper
-    PLACE_DWELL = 0.4  # s, setting a part down
-    INSERT_DWELL = 1.0  # s, aligning and pushing a profile into its hollow
-    RELEASE_DWELL = 0.15  # s
+    PEAK_JOINT_SPEED = 350.0
+    """deg/s, the fastest any joint angle turns (assumed: peak shoulder and elbow speeds of natural reaching
+    stay well below this; the wrist and trunk of a re-orienting hand are capped with them)."""
     APPROACH_UP = 0.06  # m above the part/target before the final approach
     APPROACH_BACK = 0.04  # m towards the worker
     PLACE_TOL = 0.005  # m, a keep-the-grip place pose worse than this falls back to position-only
@@ -119,7 +121,8 @@ class Worker:
              handover: bool = False) -> ActionMotion:
         """Plan one execution of ``geometry`` from the current scene state.
 
-        ``geometry`` has ``part`` (the part's body name), ``kind`` (place | insert | fasten | remove) and
+        ``geometry`` has ``part`` (the part's body name), ``kind`` (an action kind,
+        :mod:`ergosim.scenes.action_kinds`), ``seats`` (the part ends in a slot: aligned and pushed in) and
         ``target`` or ``target_site`` (the site where the part's origin must end up); a fasten action also
         has ``turn_time`` [s], the time the fastener is held and turned once inserted.
 
@@ -182,16 +185,18 @@ class Worker:
 
         keys = [self.rest, k1, k2, k2, k3, k4, k5, k5, k5, k6, self.rest]
         hands = np.array([ik.hand_pos(k, side) for k in keys])
-        grasp_dwell = self.HANDOVER_DWELL if handover else self.GRASP_DWELL
-        place_dwell = self.INSERT_DWELL if kind in ("insert", "fasten") else self.PLACE_DWELL
-        if kind == "fasten":
-            place_dwell = place_dwell + getattr(geometry, "turn_time", 0.0)
-        moves = fitts_duration(np.linalg.norm(np.diff(hands, axis=0), axis=1), speed=self.subject.speed)
-        # trial-to-trial timing jitter; always drawn, so the rng stream does not depend on its size
-        moves = np.asarray(moves) * rng.lognormal(0.0, self.subject.timing_variability, len(moves))
-        dwell = {2: grasp_dwell, 6: place_dwell, 7: self.RELEASE_DWELL}  # segment index -> fixed duration
-        seg = np.array([dwell[i] / self.subject.speed if i in dwell else moves[i]
-                        for i in range(len(keys) - 1)])
+        seats = getattr(geometry, "seats", kind in ("insert", "fasten"))
+        timing = action_timing(hands, seats=seats, handover=handover,
+                               turn_time=getattr(geometry, "turn_time", 0.0))
+        # MTM-1 standard times at the subject's pace, with trial-to-trial jitter on each segment; always
+        # drawn, so the rng stream does not depend on its size
+        jitter = rng.lognormal(0.0, self.subject.timing_variability, len(timing.durations))
+        seg = timing.durations / self.subject.speed * jitter
+        # MTM-1 times the hand's path; a segment that turns a joint far for a short hand path (the trunk or
+        # the wrist re-orienting on the final approach) is slowed so no joint exceeds PEAK_JOINT_SPEED
+        # (the peak of a minimum-jerk transition is 1.875 x its mean speed)
+        span = np.abs(np.diff(np.asarray(keys), axis=0)).max(axis=1)
+        seg = np.maximum(seg, 1.875 * span / self.PEAK_JOINT_SPEED)
         key_t = np.concatenate([[0.0], np.cumsum(seg)])
         n = int(np.floor(key_t[-1] * self.rate)) + 1
         t = np.arange(n) / self.rate
@@ -200,7 +205,7 @@ class Worker:
         angles = interpolate_keyframes(key_t, np.asarray(keys), t)
         local = ik.hand_path(angles, side)
         hand_world = (local - self._root_pos) @ r_frame.T + frame[0]
-        kind_name = kind if kind in ("insert", "fasten") else "place"
+        kind_name = "fasten" if getattr(geometry, "turn_time", 0.0) else "insert" if seats else "place"
         phases = (
             Phase("reach", 0.0, key_t[2]),
             Phase("take" if handover else "grasp", key_t[2], key_t[3]),
@@ -223,6 +228,7 @@ class Worker:
             reach_error=grasp.pos_error,
             place_error=place.pos_error,
             place_rot_error_deg=place.rot_error_deg,
+            mtm=timing.analysis,
         )
 
     def rest_motion(self, duration: float) -> ActionMotion:

@@ -21,7 +21,7 @@ from ergosim.human.model import human_spec
 from ergosim.posture import HUMAN_JOINTS
 from ergosim.worker.ik import IKPrior, default_prior
 
-__all__ = ["Subject", "make_subject", "make_subjects", "rest_angles"]
+__all__ = ["Subject", "make_subject", "make_subjects", "rest_angles", "FEMALE_FRACTION"]
 
 _IDX = {n: i for i, n in enumerate(HUMAN_JOINTS)}
 
@@ -36,7 +36,7 @@ class Subject:
     gaze taken by the eyes before the neck flexes; ``noise_deg``: white sensor noise; ``bias_deg``: drift of
     the sensor bias; ``variability_deg``: trial-to-trial variation of the preferred posture;
     ``timing_variability``: trial-to-trial variation of each movement's duration, the sigma of a log-normal
-    factor (0.06 ~ +-6 %; 0 = the same timing every execution);
+    factor (0.01 ~ +-1 %; 0 = the same timing every execution);
     ``kwear``: overrides of the KWear parameters (``KWearParams`` field -> value; empty = paper defaults).
     """
 
@@ -49,8 +49,8 @@ class Subject:
     eye_down_deg: float = 20.0
     noise_deg: float = 1.0
     bias_deg: float = 1.5
-    variability_deg: float = 3.0
-    timing_variability: float = 0.06
+    variability_deg: float = 0.6
+    timing_variability: float = 0.01
     handedness: str = "right"
     kwear: tuple[tuple[str, float], ...] = field(default=())
 
@@ -65,8 +65,9 @@ class Subject:
 
     @property
     def workcell_fields(self) -> dict[str, Any]:
-        """The workcell config fields that build this subject's body in a scene (stature, segment scaling)."""
-        return {"stature": self.stature, "human_scale": self.scale}
+        """The workcell fields, by dotted path, that build this subject's body in a scene (stature, segment
+        scaling); any workcell file has them."""
+        return {"worker.stature": self.stature, "worker.human_scale": self.scale}
 
     def spec(self, keyframe: str | None = "home") -> mujoco.MjSpec:
         """The subject's human body (attach it into a scene, or compile it on its own)."""
@@ -96,23 +97,38 @@ def rest_angles(subject: Subject | None = None) -> np.ndarray:
     return q
 
 
-def make_subject(rng: np.random.Generator, name: str = "S01", kwear: Mapping[str, float] | None = None,
-                 **overrides: Any) -> Subject:
-    """Draw one subject from ``rng``; keyword ``overrides`` fix any field (e.g. ``stature=1.62``)."""
-    female = rng.random() < 2.0 / 12.0
+FEMALE_FRACTION = 2.0 / 12.0
+"""Share of women in a drawn population: the paper's §7.2 cohort, "2 females and 10 males"."""
+
+
+def make_subject(rng: np.random.Generator, name: str = "S01", kwear: Mapping[str, float] | None = None, *,
+                 female_fraction: float = FEMALE_FRACTION, pace: float = 1.0, **overrides: Any) -> Subject:
+    """Draw one subject from ``rng``; keyword ``overrides`` fix any field (e.g. ``stature=1.62``).
+
+    ``female_fraction``: probability that the subject is a woman (stature from the women's distribution);
+    ``pace``: the population's mean performance, multiplying every drawn ``speed`` (1 = MTM-1 standard
+    performance, :mod:`ergosim.worker.action_timing`)."""
+    if not 0.0 <= female_fraction <= 1.0:
+        raise ConfigError(f"female_fraction must be in [0, 1], got {female_fraction}", where="make_subject")
+    if not pace > 0:
+        raise ConfigError(f"pace must be > 0, got {pace}", where="make_subject")
+    female = rng.random() < female_fraction
     stature = rng.normal(1.64, 0.065) if female else rng.normal(1.77, 0.07)
     scale = tuple((k, float(np.clip(rng.normal(1.0, 0.025), 0.92, 1.08))) for k in SEGMENT_SCALES)
     fields = dict(
         name=name,
         stature=float(np.clip(stature, 1.50, 2.00)),
         scale=scale,
-        speed=float(np.clip(rng.normal(1.0, 0.12), 0.75, 1.3)),
+        speed=pace * float(np.clip(rng.normal(1.0, 0.12), 0.75, 1.3)),
         trunk_use=float(np.clip(rng.lognormal(0.0, 0.2), 0.65, 1.6)),
         elbow_comfort_deg=float(np.clip(rng.normal(25.0, 5.0), 12.0, 40.0)),
         eye_down_deg=float(np.clip(rng.normal(20.0, 4.0), 10.0, 30.0)),
         noise_deg=float(np.clip(rng.normal(1.0, 0.3), 0.3, 2.0)),
         bias_deg=float(np.clip(rng.normal(1.5, 0.5), 0.3, 3.0)),
-        variability_deg=float(np.clip(rng.normal(3.0, 0.8), 1.0, 6.0)),
+        # Trial-to-trial variability, calibrated against §7.2: "repeat each action η = 3 times, which
+        # ensured Ṽ_des < 1e-3" (docs/fidelity.md); a drawn subject varies its posture by ~0.6 deg and its
+        # timing by 1 % (timing_variability) from one execution to the next.
+        variability_deg=float(np.clip(rng.normal(0.6, 0.16), 0.2, 1.2)),
         kwear=tuple(sorted((kwear or {}).items())),
     )
     # not drawn: the population keeps the timing jitter it was built with; override it per subject
@@ -125,6 +141,9 @@ def make_subject(rng: np.random.Generator, name: str = "S01", kwear: Mapping[str
     return Subject(**fields)
 
 
-def make_subjects(n: int, seed: int, kwear: Mapping[str, float] | None = None) -> list[Subject]:
-    """``n`` subjects S01..Sn; subject i depends only on (seed, i), so adding subjects keeps the others."""
-    return [make_subject(np.random.default_rng([seed, i]), f"S{i + 1:02d}", kwear=kwear) for i in range(n)]
+def make_subjects(n: int, seed: int, kwear: Mapping[str, float] | None = None,
+                  **population: Any) -> list[Subject]:
+    """``n`` subjects S01..Sn; subject i depends only on (seed, i), so adding subjects keeps the others.
+    ``population``: ``female_fraction`` and ``pace`` of :func:`make_subject`."""
+    return [make_subject(np.random.default_rng([seed, i]), f"S{i + 1:02d}", kwear=kwear, **population)
+            for i in range(n)]

@@ -1,0 +1,72 @@
+"""``ergosim render SCENARIO --out PNG``: a still of a scenario's workcell from one of its named camera views.
+
+The workcell is built as a run would build it (with any ``--set`` overrides) and rendered offscreen by
+MuJoCo in its initial state: the worker at rest, the parts where they are laid out. Camera views are the
+``[views.NAME]`` tables of the workcell file (azimuth, elevation, distance, look-at point).
+"""
+
+from __future__ import annotations
+
+import argparse
+import io
+from pathlib import Path
+
+from ergosim.errors import ConfigError
+from ergosim.overrides import parse_assignments
+
+__all__ = ["add_parser", "run"]
+
+
+def add_parser(sub) -> argparse.ArgumentParser:
+    from ergosim.twin.scenariofile import scenario_names  # noqa: PLC0415 - keep `ergosim --help` fast
+
+    p = sub.add_parser(
+        "render", help="render a still of a scenario's workcell (PNG) from one of its camera views",
+        description="Build the scenario's workcell and render it offscreen with MuJoCo to a PNG. The views "
+                    "are the [views.NAME] tables of the workcell file.",
+    )
+    p.add_argument("scenario", help=f"a scenario file (.toml) or one of: {', '.join(scenario_names())}")
+    p.add_argument("--out", required=True, metavar="PNG", help="the PNG file to write")
+    p.add_argument("--view", metavar="NAME", help="a camera view of the workcell (default: its first)")
+    p.add_argument("--size", default="960x720", metavar="WxH", help="image size in pixels (default 960x720)")
+    p.add_argument("--set", dest="assign", action="append", default=[], metavar="KEY=VALUE",
+                   help="override a workcell field as in `ergosim run` (e.g. scene.shelf_height=1.6)")
+    return p
+
+
+def run(args) -> int:
+    import matplotlib.image  # noqa: PLC0415
+
+    from ergosim.atomic import write_bytes  # noqa: PLC0415
+    from ergosim.scenes import build_cell, render_workcell  # noqa: PLC0415
+    from ergosim.twin.scenariofile import load_scenario  # noqa: PLC0415
+    from ergosim.video.frames import open_renderer  # noqa: PLC0415
+    from ergosim.video.run_video import parse_size  # noqa: PLC0415
+
+    out = Path(args.out)
+    if out.suffix.lower() != ".png":
+        raise ConfigError(f"the still is written as PNG: give a file name ending in .png, got {out.name!r}",
+                          where="--out")
+    if out.is_dir():
+        raise ConfigError(f"{out} is a directory; expected the path of the .png file to write", where="--out")
+    width, height = parse_size(args.size, where="--size")
+    scenario = load_scenario(args.scenario, parse_assignments(args.assign))
+    spec = scenario.cell()
+    try:
+        view = spec.view(args.view)
+    except ConfigError as err:
+        raise ConfigError(err.what, where="--view") from None
+    cell = build_cell(spec)
+    cell.model.vis.global_.offwidth = max(int(cell.model.vis.global_.offwidth), width)
+    cell.model.vis.global_.offheight = max(int(cell.model.vis.global_.offheight), height)
+    open_renderer(cell.model, 64, 64).close()  # a one-line error when there is no OpenGL context
+    image = render_workcell(cell, width=width, height=height, view=view.name)
+    buf = io.BytesIO()
+    matplotlib.image.imsave(buf, image, format="png", metadata={"Software": None})
+    try:
+        write_bytes(out, buf.getvalue())
+    except OSError as err:
+        raise ConfigError(f"cannot write {out}: {err.strerror or err}", where="--out") from None
+    print(f"wrote {out} ({width}x{height}, view {view.name!r} of workcell {spec.name!r}; views: "
+          f"{', '.join(v.name for v in spec.views)})")
+    return 0

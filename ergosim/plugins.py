@@ -1,0 +1,38 @@
+"""Where extensions come from: the modules that registered a mode, a risk index, an action kind, a scenario
+or a workcell, so that worker processes can import them too.
+
+A run with ``--jobs N`` simulates subjects in fresh ``spawn`` processes, which import ergosim but not the
+user's module that called :func:`~ergosim.twin.modes.register_mode` (or the other ``register_*``). Each
+``register_*`` call notes the module it was called from (:func:`note_caller`); a worker process imports
+those modules (:func:`import_extensions`) before it runs, so a new mode is one new module whatever the
+number of processes. A script run as ``__main__`` is re-run by ``spawn`` itself and is not noted.
+"""
+
+from __future__ import annotations
+
+import importlib
+import sys
+
+__all__ = ["note_caller", "extension_modules", "import_extensions"]
+
+_MODULES: list[str] = []
+
+
+def note_caller(depth: int = 2) -> None:
+    """Note the module ``depth`` frames up (the caller of a ``register_*`` function) if it is not ergosim's
+    own and not a ``__main__`` script."""
+    name = sys._getframe(depth).f_globals.get("__name__", "")
+    if name and name.split(".")[0] != "ergosim" and name not in ("__main__", "__mp_main__"):
+        if name not in _MODULES:
+            _MODULES.append(name)
+
+
+def extension_modules() -> tuple[str, ...]:
+    """The modules noted so far, in the order they first registered something."""
+    return tuple(_MODULES)
+
+
+def import_extensions(names: tuple[str, ...]) -> None:
+    """Import ``names`` (from :func:`extension_modules` of the parent process); each registers again."""
+    for name in names:
+        importlib.import_module(name)

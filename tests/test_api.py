@@ -1,0 +1,97 @@
+"""The Python API for experiments (issue 12 §5): ``ergosim.api`` loads a scenario by name or path with
+overrides, runs it, and hands back the summary and the per-attempt records as objects; the example script
+that compares two layouts runs in a short form.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from own_product import SCENARIO, write_product
+
+import ergosim.api as api
+from ergosim.errors import ConfigError
+from ergosim.twin.records import Allocation, SubjectRun
+
+ROOT = Path(__file__).resolve().parents[1]
+QUICK = SCENARIO.replace('modes = ["hrc", "h-only", "r-only"]', 'modes = ["h-only", "r-only"]\neta_max = 2')
+"""The user's bracket in the two modes that need no risk index, with a short calibration."""
+
+
+def test_every_public_name_exists():
+    for name in api.__all__:
+        assert hasattr(api, name), name
+    assert len(set(api.__all__)) == len(api.__all__)
+
+
+def test_load_by_name_or_path_with_overrides(tmp_path):
+    sc = api.load("multi-subject", {"scene.l_xy": "0.20,0.82", "task.agents.robot.cost": 3.0},
+                  subjects=2, repetitions=3, modes=["hrc"], takt=40)
+    assert (sc.protocol.subjects, sc.protocol.repetitions, sc.protocol.modes, sc.protocol.takt) == \
+        (2, 3, ("hrc",), 40.0)
+    assert sc.cell().part("L").xy == (0.20, 0.82)
+    assert sc.task().agents[1].cost == 3.0
+    path = write_product(tmp_path / "own")
+    assert api.load(path).name == "bracket"
+    assert api.load(str(path)).protocol.modes == ("hrc", "h-only", "r-only")
+    with pytest.raises(ConfigError, match="unknown key 'parts.L.xyz'"):
+        api.load("multi-subject", {"scene.parts.L.xyz": "1,2"})
+    with pytest.raises(TypeError, match="both as a keyword and in overrides"):
+        api.load("multi-subject", {"takt": 40}, takt=41)
+
+
+@pytest.fixture(scope="module")
+def results(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("api")
+    return api.run(api.load(write_product(folder, scenario=QUICK), subjects=2), seed=3, jobs=1)
+
+
+def test_run_returns_the_summary_and_the_records_as_objects(results):
+    assert results.status == "complete" and results.seed == 3 and results.out is None  # no folder kept
+    assert results.summary["scenario"] == "bracket" and results.summary["complete"]
+    assert [s.subject for s in results.subjects] == [0, 1]
+    assert results.robot_share("r-only") == 1.0 and results.robot_share("h-only") == 0.0
+    assert results.robot_share_by_action("r-only") == {f"b{k}": 1.0 for k in range(1, 6)}
+    runs = results.runs("h-only")
+    assert len(runs) == 2 and all(isinstance(r, SubjectRun) for r in runs)
+    assert all(isinstance(a, Allocation) for a in results.allocations)
+    assert len(results.allocations) == 2 * 2 * 5 and results.failures == []
+    assert len(results.kwear_integral("h-only")) == 2
+    row = dataclasses.asdict(results.allocations[0])  # plain data, ready for a DataFrame
+    assert {"subject", "mode", "repetition", "action", "agent", "status", "t_start", "t_end"} <= set(row)
+    with pytest.raises(KeyError, match="mode 'hrc' was not run; modes run: h-only, r-only"):
+        results.runs("hrc")
+
+
+def test_the_same_seed_gives_the_same_records(results, tmp_path):
+    again = api.run(api.load(write_product(tmp_path, scenario=QUICK), subjects=2), seed=3, jobs=2,
+                    out=tmp_path / "out")
+    assert repr(again.allocations) == repr(results.allocations)  # repr: NaN costs compare equal
+    assert (tmp_path / "out" / "summary.json").exists() and again.out == tmp_path / "out"
+
+
+def test_a_session_steps_one_action_at_a_time(tmp_path):
+    session = api.session(write_product(tmp_path), "h-only", calibrate=False)
+    outcome = session.perform("b1", "robot")
+    assert outcome.ok and session.cell.action_done(session.cell.actions["b1"])
+    with pytest.raises(ConfigError, match="needs the subject's calibration"):
+        api.session(write_product(tmp_path), "hrc", calibrate=False)
+
+
+def test_the_layout_comparison_example_runs(tmp_path):
+    proc = subprocess.run([sys.executable, str(ROOT / "examples" / "compare_layouts.py"), "--subjects", "1",
+                           "--reps", "1", "--jobs", "1"], capture_output=True, text=True, timeout=600,
+                          cwd=tmp_path, check=False)
+    assert proc.returncode == 0, proc.stderr
+    lines = proc.stdout.splitlines()
+    assert lines[0] == "layout A (as filed)"
+    assert lines[3] == "layout B (scene.s1_xy=0.40,0.62 scene.s2_xy=0.52,0.66)"
+    assert "robot share" in lines[1] and "a2" in lines[1] and "KWear integral" in lines[2]
+    bad = subprocess.run([sys.executable, str(ROOT / "examples" / "compare_layouts.py"), "--set",
+                          "scene.l_xy=1"], capture_output=True, text=True, timeout=120, check=False)
+    assert bad.returncode == 1 and "Traceback" not in bad.stderr
+    assert bad.stderr.startswith("compare_layouts: error: ") and "has 1 value, expected 2" in bad.stderr

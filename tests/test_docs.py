@@ -1,0 +1,68 @@
+"""The file-format reference cannot drift from the code: every key the readers accept is documented in
+docs/workcell_format.md, every name docs/api.md uses exists, and the README's own-workcell walk-through
+names files that exist.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+from pathlib import Path
+
+import pytest
+
+from ergosim import api
+from ergosim.human.anthropometry import SEGMENT_SCALES
+from ergosim.scenes import cellfile
+from ergosim.scenes.action_kinds import ACTION_KINDS
+from ergosim.scenes.cellspec import SHAPES
+from ergosim.twin import scenariofile
+from ergosim.twin.scenario import ScenarioConfig
+
+ROOT = Path(__file__).resolve().parents[1]
+BUNDLED_MODES = ("hrc", "rula", "h-only", "r-only")
+FORMAT = (ROOT / "docs" / "workcell_format.md").read_text()
+
+SCHEMAS = {
+    "workcell top level": cellfile._TOP,
+    "workcell tables": dict.fromkeys(cellfile._TABLES),
+    "[worker]": cellfile._WORKER,
+    "[robots.NAME]": cellfile._ROBOT,
+    **{f"[furniture.NAME] type={t}": keys for t, keys in cellfile._FURNITURE.items()},
+    "[parts.NAME]": cellfile._PART,
+    "[[parts.NAME.slots]]": cellfile._SLOT,
+    "[targets.NAME]": cellfile._TARGET,
+    "[actions.LABEL]": cellfile._ACTION,
+    "[views.NAME]": cellfile._VIEW,
+    "scenario top level": dict.fromkeys(scenariofile._TOP),
+    "[protocol]": dict.fromkeys(f.name for f in dataclasses.fields(ScenarioConfig)),
+}
+
+
+@pytest.mark.parametrize("table", sorted(SCHEMAS))
+def test_every_key_of_the_files_is_documented(table):
+    missing = [k for k in SCHEMAS[table] if f"`{k}`" not in FORMAT]
+    assert not missing, f"docs/workcell_format.md lacks {table} keys {missing}"
+
+
+def test_every_value_the_readers_name_is_documented():
+    names = [*ACTION_KINDS, *SHAPES, *cellfile._FURNITURE, *SEGMENT_SCALES, *BUNDLED_MODES, "fast", "paper"]
+    missing = [n for n in names if f"`{n}`" not in FORMAT]
+    assert not missing, missing
+
+
+def test_the_api_guide_names_what_exists():
+    guide = (ROOT / "docs" / "api.md").read_text()
+    used = set(re.findall(r"api\.([A-Za-z_]+)", guide))
+    assert used and used <= set(api.__all__), used - set(api.__all__)
+
+
+def test_the_readme_walk_through_names_real_files():
+    readme = (ROOT / "README.md").read_text()
+    section = readme[readme.index("## Your own workcell"):]
+    section = section[:section.index("\n## ", 1)]
+    files = set(re.findall(r"examples/own_workcell/[\w.]+", section))
+    assert {"examples/own_workcell/bracket.toml", "examples/own_workcell/bracket_task.toml",
+            "examples/own_workcell/bracket_cell.toml"} <= files
+    assert all((ROOT / f).is_file() for f in files)
+    assert "ergosim run examples/own_workcell/bracket.toml" in section

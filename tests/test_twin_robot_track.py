@@ -1,0 +1,87 @@
+"""The robot's side of the loop: its two speeds as protocol fields, and the robot-only assembly of §7.2."""
+
+import numpy as np
+import pytest
+
+from ergosim.cli import main
+from ergosim.errors import ConfigError
+from ergosim.robot.status import SKILL_PHASES
+from ergosim.twin.robot_timing import robot_only_runs, timing_summary
+from ergosim.twin.robot_track import RobotTrack
+from ergosim.twin.runner import build_rig
+from ergosim.twin.scenariofile import load_scenario, scenario_config
+from ergosim.worker.subjects import make_subjects
+
+
+def _one_line_error(capsys, code: int, *needles: str) -> None:
+    err = capsys.readouterr().err
+    assert code == 2, err
+    assert err.startswith("ergosim: error: ") and err.count("\n") == 1 and "Traceback" not in err, err
+    for needle in needles:
+        assert needle in err, err
+
+
+def test_both_speeds_are_protocol_fields_with_their_sources():
+    cfg = scenario_config("multi-subject")
+    assert cfg.ee_speed == 0.05 and cfg.transit_speed == 0.25  # paper §7.2; ISO 10218-1:2011 §5.6
+    sc = load_scenario("multi-subject", {"transit_speed": "0.3", "ee_speed": "0.04"})
+    assert (sc.protocol.ee_speed, sc.protocol.transit_speed) == (0.04, 0.3)
+    rig = build_rig(sc, make_subjects(1, 0)[0], np.random.default_rng(0))
+    limits = rig.robot.params.limits
+    assert (limits.speed, limits.transit_speed) == (0.04, 0.3)  # the protocol reaches the skills
+    track = RobotTrack(rig.cell)
+    assert (track.params.limits.speed, track.params.limits.transit_speed) == (0.05, 0.25)
+
+
+@pytest.mark.parametrize("setting, needle", [
+    ("transit_speed=5", "transit_speed must be in (0, 1.7] m/s (the Panda's Cartesian limit), got 5.0"),
+    ("transit_speed=0", "transit_speed must be in (0, 1.7] m/s"),
+    ("transit_speed=fast", "transit_speed='fast' is not a number"),
+    ("ee_speed=0.3", "ee_speed (0.3 m/s, contact-critical motion) must not exceed transit_speed (0.25 m/s"),
+])
+def test_bad_speeds_are_one_line_errors(capsys, tmp_path, setting, needle):
+    code = main(["run", "multi-subject", "--quiet", "--out", str(tmp_path / "n"), "--set", setting])
+    _one_line_error(capsys, code, needle)
+    assert not (tmp_path / "n").exists()
+
+
+def test_a_scenario_file_names_where_a_bad_speed_is(tmp_path):
+    path = tmp_path / "fast.toml"
+    path.write_text('task = "corner-joint:multi-subject"\nworkcell = "multi-subject"\n[protocol]\n'
+                    'subjects = 1\nrepetitions = 1\nmodes = ["r-only"]\nrobot_cost = 2.5\n'
+                    'transit_speed = 2.0\n')
+    with pytest.raises(ConfigError, match="transit_speed must be in") as err:
+        load_scenario(str(path))
+    assert "fast.toml: protocol" in str(err.value)
+
+
+@pytest.mark.slow
+def test_the_robot_only_assembly_of_the_multi_subject_cell():
+    """Paper §7.2: the robot hands a1-a4 over (the worker inserts each and does a5). At 0.05 m/s in the
+    contact zones and 0.25 m/s in transit each handover takes the robot 9-12 s up to the worker's take;
+    the whole repetition, with the worker's part serial to the robot's, about a minute (it took 144 s at
+    0.05 m/s throughout)."""
+    sc = load_scenario("multi-subject")
+    runs = robot_only_runs(sc, 2)
+    for run in runs:
+        assert run.outcome == "completed"
+        assert [(a.agent, a.status) for a in run.actions] == [("robot", "done")] * 4 + [("human", "done")]
+        robot = [a.robot_time for a in run.actions[:4]]  # the robot's own time per action
+        assert all(10.0 < t < 18.0 for t in robot), robot
+        assert 45.0 < run.robot_time < 65.0
+        assert run.robot_time < run.repetition < 100.0
+        # reach, grasp and carry up to the handover pose: the part of the robot's time the worker waits for
+        assert all(6.0 < a.delivery < 12.0 for a in run.actions[:4])
+        assert 0.6 * run.robot_time < run.delivery < 0.8 * run.robot_time
+        for a in run.actions[:4]:
+            r = a.robot
+            assert r.ok and {n for n, _ in r.phases} == set(SKILL_PHASES)
+            assert r.duration <= a.duration + 1e-9  # the action ends once both the robot and the worker have
+            assert 2.0 < r.phase("contact") < 5.0 and 3.0 < r.phase("transit") < 9.0
+    # the transit speed is what the robot's time is most sensitive to; ±10 % moves it by a few seconds
+    for speed, sign in (("0.275", -1), ("0.225", 1)):
+        other = robot_only_runs(sc.with_overrides({"transit_speed": speed}), 1)[0]
+        assert 0.5 < sign * (other.robot_time - runs[0].robot_time) < 6.0
+    summary = timing_summary(runs)
+    assert summary["completed"] == 2 and set(summary["actions"]) == {"a1", "a2", "a3", "a4", "a5"}
+    assert summary["repetition_mean_s"] == pytest.approx(np.mean([r.repetition for r in runs]))
