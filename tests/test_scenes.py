@@ -85,10 +85,12 @@ def test_initial_layout_matches_the_paper(kwear, multi):
     j, _ = kwear.body_pose("J")
     assert j[1] < -0.3 and j[2] > shelf(kwear.config).height
     assert kwear.site_pose("shelf_target")[0][2] < shelf(kwear.config).height
-    # multi-subject: pieces and robot on the worker's left, assembly area and monitor in front
+    # multi-subject: pieces and robot on the worker's left (+y), J and L with the robot on the side table,
+    # S1 and S2 close on the bench; the assembly area and the monitor in front
     for p in ("J", "L", "S1", "S2", "panda_link0"):
-        assert multi.body_pose(p)[0][1] > 0.3  # on the worker's left (+y), clear of the assembly area
-    assert multi.body_pose("panda_link0")[0][1] > 0.5
+        assert multi.body_pose(p)[0][1] > 0.05
+    for p in ("J", "L", "panda_link0"):
+        assert multi.body_pose(p)[0][1] > 0.5
     assert abs(multi.site_pose("assembly_area")[0][1]) < 0.2
     assert multi.model.geom("monitor").pos[0] > multi.site_pose("assembly_area")[0][0]
     far = max(PROFILES + ("J",), key=lambda p: np.linalg.norm(multi.body_pose(p)[0][:2]))

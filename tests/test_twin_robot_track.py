@@ -67,7 +67,8 @@ def test_the_robot_only_assembly_of_the_multi_subject_cell():
         assert run.outcome == "completed"
         assert [(a.agent, a.status) for a in run.actions] == [("robot", "done")] * 4 + [("human", "done")]
         robot = [a.robot_time for a in run.actions[:4]]  # the robot's own time per action
-        assert all(10.0 < t < 18.0 for t in robot), robot
+        # a2's L lies near the robot's base in the calibrated layout: the wrist turns most there
+        assert all(10.0 < t < 21.0 for t in robot), robot
         assert 45.0 < run.robot_time < 65.0
         assert run.robot_time < run.repetition < 100.0
         # reach, grasp and carry up to the handover pose: the part of the robot's time the worker waits for
@@ -76,7 +77,9 @@ def test_the_robot_only_assembly_of_the_multi_subject_cell():
         for a in run.actions[:4]:
             r = a.robot
             assert r.ok and {n for n, _ in r.phases} == set(SKILL_PHASES)
-            assert r.duration <= a.duration + 1e-9  # the action ends once both the robot and the worker have
+            # the action ends when the worker has inserted the part, which the robot had brought and let go
+            # of; its way home may run on into the next action
+            assert r.arrival + r.phase("wait") <= a.duration + 1e-9
             assert 2.0 < r.phase("contact") < 5.0 and 3.0 < r.phase("transit") < 9.0
     # the transit speed is what the robot's time is most sensitive to; ±10 % moves it by a few seconds
     for speed, sign in (("0.275", -1), ("0.225", 1)):

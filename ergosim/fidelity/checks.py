@@ -69,11 +69,9 @@ def _table1_holds(kwear: Sequence[str], rula: Sequence[str]) -> bool:
             and all(rep == paper.TABLE1_RULA for rep in rula))
 
 
-def robot_only_time(summary: Mapping) -> float:
-    """Mean duration [s] of the completed r-only repetitions: the robot's whole assembly."""
-    reps = [r["duration_s"] for r in summary["modes"]["r-only"]["repetitions"]
-            if r["outcome"] == "completed" and r["duration_s"] is not None]
-    return statistics.fmean(reps) if reps else float("nan")
+def robot_only_time(timing: Mapping) -> float:
+    """Mean duration [s] of the r-only repetitions: the robot's whole assembly, parts taken by the worker."""
+    return float(timing["repetition_mean_s"]) if timing.get("completed") else float("nan")
 
 
 def _g_rows(section: str, summaries: Sequence[Mapping], target: Mapping[str, int], bounds: Bounds,
@@ -159,12 +157,19 @@ def fidelity_rows(runs: Runs, bounds: Bounds) -> list[Row]:
                     " / ".join(str(v) for v in h_over.values()), all(v == 0 for v in h_over.values()), "0"))
     t_robot = robot_only_time(runs.robot_only)
     tol = bounds.robot_only_tolerance
-    rows.append(Row("§7.2", "robot-only assembly [s]", f"{paper.ROBOT_ONLY_S:g}", f"{t_robot:.1f}",
-                    abs(t_robot - paper.ROBOT_ONLY_S) <= tol * paper.ROBOT_ONLY_S,
+    rows.append(Row("§7.2", "robot-only assembly, r-only repetition [s]", f"{paper.ROBOT_ONLY_S:g}",
+                    f"{t_robot:.1f}", abs(t_robot - paper.ROBOT_ONLY_S) <= tol * paper.ROBOT_ONLY_S,
                     f"{paper.ROBOT_ONLY_S:g} s ± {tol:.0%}"))
-    ps = {seed: s.get("wilcoxon", {}).get("p", float("nan")) for seed, s in ms.items()}
-    rows.append(Row("§7.2", "Wilcoxon HRC vs H only, KWear integral", "p < 0.01 (physical demand)",
-                    " / ".join(f"p = {v:.2g}" for v in ps.values()),
-                    all(v < bounds.p_max for v in ps.values()), f"p < {bounds.p_max:g}"))
+    delivery = float(runs.robot_only.get("delivery_mean_s", float("nan")))
+    rows.append(Row("§7.2", "robot bringing a1-a4's parts, its own motion [s]", f"{paper.ROBOT_ONLY_S:g}",
+                    f"{delivery:.1f}", abs(delivery - paper.ROBOT_ONLY_S) <= tol * paper.ROBOT_ONLY_S,
+                    f"{paper.ROBOT_ONLY_S:g} s ± {tol:.0%}"))
+    ps = {seed: (s.get("wilcoxon") or {}).get("p", float("nan")) for seed, s in ms.items()}
+    lower = {seed: statistics.fmean(s["modes"]["hrc"]["kwear_integral_by_subject"])
+             < statistics.fmean(s["modes"]["h-only"]["kwear_integral_by_subject"]) for seed, s in ms.items()}
+    rows.append(Row("§7.2", "Wilcoxon HRC vs H only, KWear integral", "p < 0.01 (physical demand), HRC lower",
+                    " / ".join(f"p = {v:.2g}{'' if lower[k] else ' (HRC higher)'}" for k, v in ps.items()),
+                    all(v < bounds.p_max and lower[k] for k, v in ps.items()),
+                    f"p < {bounds.p_max:g}, HRC lower"))
     rows += _g_rows("§7.2", list(ms.values()), paper.G_MULTI_SUBJECT, bounds, "a2")
     return rows

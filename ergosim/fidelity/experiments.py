@@ -13,6 +13,8 @@ import json
 from collections.abc import Callable, Mapping
 from pathlib import Path
 
+from ergosim.atomic import write_json
+from ergosim.twin.robot_timing import robot_only_runs, timing_summary
 from ergosim.twin.scenario_run import run_scenario
 from ergosim.twin.scenariofile import load_scenario
 
@@ -39,7 +41,8 @@ QUICK = Plan("quick", kv_seeds=(0, 1), ms_seeds=(0,), ms_subjects=6, ms_reps=4, 
 
 @dataclasses.dataclass(frozen=True)
 class Runs:
-    """The summaries (summary.json documents) of the report's runs and the folders they are in."""
+    """The summaries (summary.json documents) of the report's runs, the robot-only timing
+    (:func:`~ergosim.twin.robot_timing.timing_summary`) and the files they are in."""
 
     kwear_validation: dict[int, dict]
     multi_subject: dict[int, dict]
@@ -77,9 +80,8 @@ def run_experiments(plan: Plan, out: Path, *, seeds: int | None = None, jobs: in
         size = {"subjects": str(plan.ms_subjects), "repetitions": str(plan.ms_reps)}
         ms[seed] = _run("multi-subject", {**ms_over, **size}, seed, folder, jobs)
         folders[f"multi-subject seed {seed}"] = str(folder)
-    folder = runs / "multi-subject-robot-only"
     log(f"§7.2 robot-only assembly: {plan.robot_only_subjects} subjects x 1 repetition, r-only")
-    robot = _run("multi-subject", {**ms_over, "subjects": str(plan.robot_only_subjects), "repetitions": "1",
-                                   "modes": "r-only"}, 0, folder, jobs)
-    folders["robot-only"] = str(folder)
+    robot = timing_summary(robot_only_runs(load_scenario("multi-subject", ms_over), plan.robot_only_subjects))
+    write_json(runs / "robot-only.json", robot)
+    folders["robot-only"] = str(runs / "robot-only.json")
     return Runs(kv, ms, robot, folders)

@@ -146,9 +146,12 @@ class Session:
             arrived = plant.run_until(lambda: self.robot.waiting or self.robot.done, _ACTION_TIMEOUT)
             if not arrived or self.robot.done:
                 return self._robot_failure(t0)
-            # The worker takes the part from the gripper and inserts it (paper §7.2, Fig. 8 bottom).
+            # The worker takes the part from the gripper and inserts it (paper §7.2, Fig. 8 bottom). The
+            # action is done when the scene says the part is in place; the robot's retreat and way home go on
+            # while the next action starts (a robot action waits for it, :meth:`perform`).
             out = self._worker_action(geom, handover=True)
-            plant.run_until(lambda: self.robot.done, _ACTION_TIMEOUT)
+            if not out.ok:
+                plant.run_until(lambda: self.robot.done, _ACTION_TIMEOUT)
             return Outcome(out.ok, out.status, t0, plant.time,
                             "" if out.ok else f"the worker did not complete the handover ({out.status})")
         if not plant.run_until(lambda: self.robot.done, _ACTION_TIMEOUT):
@@ -170,6 +173,8 @@ class Session:
         kind. Nothing is decided or recorded; :meth:`run` calls this for every decision."""
         geom = self.cell.actions[action]
         if agent != self.allocator.human:
+            if self.robot is not None and not self.robot.done:  # still on its way home from the last action
+                self.plant.run_until(lambda: self.robot.done, _ACTION_TIMEOUT)
             self.robot = self.plant.robot = self.robots[agent]  # the plant steps the acting robot's skill
             return self._robot_action(geom)
         self.plant.kwear.start_action(action)
