@@ -13,6 +13,7 @@ import textwrap
 import time
 from pathlib import Path
 
+import extension_mode  # noqa: F401 - registers the user's mode "peak" (tests/extension_mode.py)
 import numpy as np
 import pyarrow.parquet as pq
 import pytest
@@ -122,9 +123,18 @@ def test_local_and_ray_give_the_same_rows(local, tmp_path):
             (tmp_path / "cluster" / "units" / done.name).write_bytes(done.read_bytes())
         proc = _cli(["sweep", str(path), "--out", str(tmp_path / "cluster"), "--executor", "ray",
                      "--ray-address", address, "--quiet"])
+        # a mode registered by the user's module reaches the Ray workers too
+        peak = load_sweep(_sweep_file(tmp_path, SMALL.replace('modes = ["hrc"]', 'modes = ["peak"]').replace(
+            "subjects = 2", "subjects = 1").replace("robot_cost = [25.0, 50.0]", "robot_cost = [50.0]"),
+            "peak.toml"))
+        on_ray = run_sweep(peak, tmp_path / "peak-ray", executor="ray", progress=False)
         _, err = proc.communicate(timeout=300)
     finally:
         ray.shutdown()
+    assert on_ray.status == "complete", pq.read_table(tmp_path / "peak-ray" / "results.parquet").to_pylist()
+    assert run_sweep(peak, tmp_path / "peak-local", jobs=1, progress=False).status == "complete"
+    assert pq.read_table(tmp_path / "peak-ray" / "results.parquet").equals(
+        pq.read_table(tmp_path / "peak-local" / "results.parquet"))
     assert result.status == "complete" and result.executor["executor"] == "ray" and result.ran == 8
     assert result.executor["workers"] == 2
     table = pq.read_table(tmp_path / "ray" / "results.parquet")

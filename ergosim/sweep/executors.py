@@ -17,8 +17,10 @@ import logging
 import multiprocessing
 import os
 import signal
+import sys
 import time
 from collections.abc import Iterable, Iterator, Sequence
+from pathlib import Path
 from typing import Any
 
 from ergosim.errors import ConfigError, ErgosimError
@@ -114,11 +116,29 @@ class LocalExecutor(Executor):
         self._pool = None
 
 
-def _ray_unit(scenario, unit: Unit, actions: Sequence[str], extensions: tuple[str, ...]) -> dict[str, Any]:
+def _import_roots(names: Sequence[str]) -> tuple[str, ...]:
+    """The sys.path entries the driver imported the extension modules ``names`` from."""
+    roots = []
+    for name in names:
+        file = getattr(sys.modules.get(name), "__file__", None)
+        if file:
+            path = Path(file).resolve()
+            depth = name.count(".") + (1 if path.name == "__init__.py" else 0)
+            roots.append(str(path.parents[depth]))
+    return tuple(dict.fromkeys(roots))
+
+
+def _ray_unit(scenario, unit: Unit, actions: Sequence[str], extensions: tuple[str, ...],
+              roots: tuple[str, ...]) -> dict[str, Any]:
     """The Ray task: one unit. Ray workers share the terminal's process group, so a Ctrl-C meant for the
-    driver must not fail the unit: the driver stops the workers itself."""
+    driver must not fail the unit: the driver stops the workers itself. ``roots``: where the driver found
+    the extension modules; a worker on the driver's machine imports them from there (on another node they
+    must be installed, or the unit fails saying which module is missing)."""
     with contextlib.suppress(ValueError):  # not the main thread of the worker
         signal.signal(signal.SIGINT, signal.SIG_IGN)
+    for root in roots:
+        if root not in sys.path and os.path.isdir(root):
+            sys.path.append(root)
     return run_unit(scenario, unit, actions, extensions)
 
 
@@ -165,6 +185,7 @@ class RayExecutor(Executor):
         refs: dict[int, Any] = {}  # one object per cell scenario, shared by its units
         actions_ref = ray.put(list(actions))
         extensions = extension_modules()
+        roots = _import_roots(extensions)
         pending = self._pending
 
         def fill() -> None:
@@ -172,7 +193,7 @@ class RayExecutor(Executor):
                 ref = refs.get(unit.cell)
                 if ref is None:
                     ref = refs[unit.cell] = ray.put(scenario)
-                pending[self._remote.remote(ref, unit, actions_ref, extensions)] = unit
+                pending[self._remote.remote(ref, unit, actions_ref, extensions, roots)] = unit
                 if len(pending) >= 2 * self.workers:
                     break
 

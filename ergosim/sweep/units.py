@@ -110,6 +110,8 @@ def run_unit(scenario: Scenario, unit: Unit, actions: Sequence[str],
             doc["error"] = "; ".join(sorted({o.reason for o in run.outcomes if o.outcome == "abandoned"}))
     except ErgosimError as err:
         doc["error"] = str(err)
+    except ImportError as err:  # an extension module this worker cannot import
+        doc["error"] = f"{type(err).__name__}: {err} (install the module on every node that runs units)"
     except Exception as err:  # noqa: BLE001 - a crash in one unit is recorded, the sweep goes on
         where = traceback.extract_tb(err.__traceback__)[-1]
         doc["error"] = f"{type(err).__name__}: {err} ({os.path.basename(where.filename)}:{where.lineno})"
