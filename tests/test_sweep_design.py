@@ -11,15 +11,17 @@ import numpy as np
 import pytest
 
 import ergosim.sweep as sweep_pkg
+import ergosim.sweep.units as units_mod
 from ergosim.cli import main
 from ergosim.errors import ConfigError
 from ergosim.sweep.design import MAX_CELLS, load_sweep, set_string
+from ergosim.sweep.fingerprint import code_fingerprint
 from ergosim.sweep.units import plan_units, unit_id
 from ergosim.twin.scenariofile import scenario_path
 
 ROOT = Path(__file__).resolve().parents[1]
 MODULES = ["design", "units", "executors", "folder", "tables", "stats", "plots", "runner", "metrics",
-           "compare"]
+           "compare", "fingerprint", "benchmark"]
 
 
 def _write(tmp_path, text: str, name: str = "s.toml"):
@@ -260,3 +262,14 @@ def test_the_documented_sweep_files_are_valid(tmp_path):
     assert len(blocks) >= 3
     for k, block in enumerate(blocks):
         assert load_sweep(_write(tmp_path, block, f"doc{k}.toml")).cells
+
+
+def test_units_are_tied_to_the_code_that_planned_them(tmp_path, monkeypatch):
+    s = load_sweep(_write(tmp_path, 'scenario = "kwear-validation"\n'))
+    before = plan_units(s)
+    assert all(u.code == code_fingerprint() for u in before) and len(code_fingerprint()) == 16
+    monkeypatch.setattr(units_mod, "code_fingerprint", lambda: "0123456789abcdef")
+    after = plan_units(s)
+    assert {u.id for u in before}.isdisjoint(u.id for u in after)  # other code: nothing is reused
+    doc = units_mod.run_unit(s.scenarios[0], before[0], s.actions)  # a worker with other code refuses
+    assert doc["status"] == "failed" and "runs other code" in doc["error"] and doc["metrics"] == {}

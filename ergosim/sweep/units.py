@@ -3,10 +3,10 @@
 A unit runs :func:`~ergosim.twin.runner.run_subject` for one subject and one mode, with the mode's random
 stream of the whole run (its slot), so a unit equals that subject and mode in ``ergosim run`` of the same
 cell. Its id is a hash of everything its result depends on (the resolved scenario: protocol, task,
-workcell and overrides; subject, seed, mode, slot; the ergosim version), so a re-run over the same folder
-finds the units already done even after the sweep file grew, and never takes a unit of another study for
-one of this. :func:`run_unit` never raises for a failed simulation: the unit is returned with status
-``failed`` and the error, and the sweep goes on.
+workcell and overrides; subject, seed, mode, slot; the ergosim version and the code's fingerprint), so a
+re-run over the same folder finds the units already done even after the sweep file grew, and never takes
+a unit of another study, or of other code, for one of this. :func:`run_unit` never raises for a failed
+simulation: the unit is returned with status ``failed`` and the error, and the sweep goes on.
 """
 
 from __future__ import annotations
@@ -25,6 +25,7 @@ from typing import Any
 from ergosim import __version__
 from ergosim.errors import ErgosimError
 from ergosim.plugins import import_extensions
+from ergosim.sweep.fingerprint import code_fingerprint
 from ergosim.sweep.metrics import unit_metrics
 from ergosim.twin.scenariofile import Scenario
 from ergosim.twin.subject_records import RunRecord
@@ -43,7 +44,8 @@ ALLOCATION_FIELDS = ("repetition", "order", "action", "agent", "status", "attemp
 
 @dataclasses.dataclass(frozen=True)
 class Unit:
-    """One work unit: cell index, subject index, population seed, mode and the mode's random stream."""
+    """One work unit: cell index, subject index, population seed, mode, the mode's random stream and the
+    fingerprint of the code that planned it (:func:`~ergosim.sweep.fingerprint.code_fingerprint`)."""
 
     id: str
     cell: int
@@ -51,6 +53,7 @@ class Unit:
     seed: int
     mode: str
     slot: int
+    code: str = ""
 
 
 def unit_scenario(scenario: Scenario, mode: str) -> Scenario:
@@ -60,9 +63,10 @@ def unit_scenario(scenario: Scenario, mode: str) -> Scenario:
 
 
 def unit_id(scenario: Scenario, subject: int, seed: int, mode: str, slot: int) -> str:
-    """16 hex digits of the SHA-256 of everything the unit's result depends on."""
+    """16 hex digits of the SHA-256 of everything the unit's result depends on, the code included."""
     key = {
         "ergosim": __version__,
+        "code": code_fingerprint(),
         "protocol": dict(vars(unit_scenario(scenario, mode).protocol)),
         "task": scenario.task_doc,
         "workcell": scenario.cell_doc,
@@ -82,7 +86,7 @@ def plan_units(sweep) -> list[Unit]:
                 for mode in sweep.modes:
                     slot = sweep.slots[mode]
                     units.append(Unit(unit_id(scenario, subject, seed, mode, slot), cell.index, subject, seed,
-                                      mode, slot))
+                                      mode, slot, code_fingerprint()))
     return units
 
 
@@ -98,6 +102,10 @@ def run_unit(scenario: Scenario, unit: Unit, actions: Sequence[str],
     start = time.perf_counter()
     doc = failed_document(unit, "")
     try:
+        if unit.code and unit.code != code_fingerprint():
+            raise ErgosimError(f"this worker runs other code (fingerprint {code_fingerprint()}) than the "
+                               f"driver that planned the unit ({unit.code}); install the same ergosim and "
+                               f"libraries on every node", where=socket.gethostname())
         import_extensions(extensions)
         sc = unit_scenario(scenario, unit.mode)
         check_reachability(sc, sc.task(), build_cell(sc.cell()))  # a cell certain to fail does not start
