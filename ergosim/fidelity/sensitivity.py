@@ -4,8 +4,8 @@ Each calibrated parameter is moved by a factor (0.9 and 1.1 by default) and both
 with everything else as calibrated. The parameters, as ``--set`` overrides of the paper scenarios:
 
 - ``shelf_height``: §7.1's top ledge (where J starts);
-- ``piece_distance``: every piece's initial position and every target, scaled about the worker's position in
-  both cells (the worker's reach distances);
+- ``piece_distance``: every piece's initial position and every place target, moved that many times as far
+  from the worker in both cells (kept on the surface it lies on);
 - ``pace``: the subjects' mean pace (MTM-1 performance);
 - ``transit_speed``: the robot's free-space speed.
 
@@ -22,6 +22,7 @@ from pathlib import Path
 
 from ergosim.fidelity.checks import Bounds, fidelity_rows, robot_only_time
 from ergosim.fidelity.experiments import Plan, Runs, run_experiments
+from ergosim.scenes import parse_cell
 from ergosim.twin.scenariofile import load_scenario
 
 __all__ = ["PARAMETERS", "SensitivityRow", "scaled_overrides", "run_sensitivity"]
@@ -43,15 +44,31 @@ class SensitivityRow:
     rows: int
 
 
-def _cell_points(name: str) -> dict[str, tuple[float, float]]:
-    """Every part's and place target's xy of the scenario's workcell, by dotted path."""
+_ON_SURFACE_MARGIN = 0.05
+"""How far inside its surface's edge a moved piece stays [m] (a piece is a few cm across)."""
+
+
+def _moved_points(name: str, factor: float) -> dict[str, str]:
+    """Every part's and place target's xy of the scenario's workcell moved ``factor`` times as far from the
+    worker, kept on the surface it lies on (clamped :data:`_ON_SURFACE_MARGIN` inside its edges)."""
     sc = load_scenario(name)
-    doc = sc.cell_doc
+    doc, spec = sc.cell_doc, parse_cell(sc.cell_doc, source=sc.cell_source)
+    wx, wy = doc.get("worker", {}).get("xy", (0.0, 0.0))
+    surfaces = list(spec.surfaces().values())
     out = {}
     for section in ("parts", "targets"):
         for key, entry in (doc.get(section) or {}).items():
-            if isinstance(entry, dict) and "xy" in entry:
-                out[f"scene.{section}.{key}.xy"] = tuple(entry["xy"])
+            if not isinstance(entry, dict) or "xy" not in entry:
+                continue
+            x, y = entry["xy"]
+            under = [u for u in surfaces if u.contains((x, y))]
+            nx, ny = wx + (x - wx) * factor, wy + (y - wy) * factor
+            if under:
+                u = min(under, key=lambda u: -u.height)  # the top one
+                half = [max(u.size[i] / 2 - _ON_SURFACE_MARGIN, 0.0) for i in range(2)]
+                nx = min(max(nx, u.center[0] - half[0]), u.center[0] + half[0])
+                ny = min(max(ny, u.center[1] - half[1]), u.center[1] + half[1])
+            out[f"scene.{section}.{key}.xy"] = f"{nx:.4f},{ny:.4f}"
     return out
 
 
@@ -68,9 +85,7 @@ def scaled_overrides(parameter: str, factor: float) -> dict[str, dict[str, str]]
         elif parameter == "transit_speed" and hasattr(cfg, "transit_speed"):
             over["transit_speed"] = repr(cfg.transit_speed * factor)
         elif parameter == "piece_distance":
-            wx, wy = scenario.cell_doc.get("worker", {}).get("xy", (0.0, 0.0))
-            for key, (x, y) in _cell_points(name).items():
-                over[key] = f"{wx + (x - wx) * factor:.4f},{wy + (y - wy) * factor:.4f}"
+            over.update(_moved_points(name, factor))
     if parameter == "shelf_height":
         shelf = load_scenario("kwear-validation").cell_doc["furniture"]["shelf"]
         out["kwear-validation"]["scene.furniture.shelf.height"] = repr(shelf["height"] * factor)

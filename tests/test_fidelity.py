@@ -1,0 +1,149 @@
+"""The fidelity report (issue 13): its rules on synthetic summaries, and the quick form run for real."""
+
+from __future__ import annotations
+
+import copy
+import json
+from pathlib import Path
+
+import pytest
+
+from ergosim.cli import main
+from ergosim.fidelity import FULL_BOUNDS, QUICK, Runs, fidelity_rows, paper
+from ergosim.fidelity.checks import table1_of
+from ergosim.fidelity.pace import PaceRow, calibrated_pace
+from ergosim.fidelity.sensitivity import PARAMETERS, scaled_overrides
+from ergosim.twin.scenariofile import load_scenario
+
+
+def _kv_summary(hrc: tuple[str, ...], rula: str = "HHHHH", g=None, joints=None) -> dict:
+    actions = list(paper.ACTIONS)
+
+    def rows(reps):
+        return [{"subject": 0, "repetition": i + 1, "outcome": "completed",
+                 "cells": dict(zip(actions, rep, strict=True))} for i, rep in enumerate(reps)]
+
+    return {"action_labels": actions,
+            "modes": {"hrc": {"allocation_rows": rows(hrc)},
+                      "rula": {"allocation_rows": rows([rula] * len(hrc))}},
+            "rula_g_by_action": dict(g or paper.G_KWEAR_VALIDATION),
+            "calibration": {"most_loaded_joint_by_action": dict(joints or {"a1": "shoulder", "a2": "neck",
+                                                                           "a3": "neck", "a4": "neck",
+                                                                           "a5": "trunk"})}}
+
+
+def _ms_summary(share=0.38, by_action=None, overruns=2, h_overruns=0, p=0.001, lower=True, g=None) -> dict:
+    hrc_k, h_k = ([1.0] * 12, [2.0] * 12) if lower else ([2.0] * 12, [1.0] * 12)
+    return {"rula_g_by_action": dict(g or paper.G_MULTI_SUBJECT),
+            "wilcoxon": {"p": p},
+            "modes": {"hrc": {"robot_share": share,
+                              "robot_share_by_action": dict(by_action or paper.ROBOT_SHARE_BY_ACTION),
+                              "repetitions_completed": 120, "repetitions_abandoned": 0,
+                              "takt_overruns": overruns, "kwear_integral_by_subject": hrc_k},
+                      "h-only": {"takt_overruns": h_overruns, "kwear_integral_by_subject": h_k}}}
+
+
+def _runs(kv=None, ms=None, robot=None) -> Runs:
+    kv = kv or {s: _kv_summary(paper.TABLE1_KWEAR) for s in range(5)}
+    ms = ms or {s: _ms_summary() for s in range(3)}
+    robot = robot or {"completed": 12, "repetition_mean_s": 38.0, "delivery_mean_s": 36.0}
+    return Runs(kv, ms, robot, {})
+
+
+def test_the_paper_itself_passes_every_row():
+    rows = fidelity_rows(_runs(), FULL_BOUNDS)
+    assert rows and all(r.ok for r in rows), [r for r in rows if not r.ok]
+
+
+def _kv(seed, reps=paper.TABLE1_KWEAR, rula="HHHHH"):
+    return lambda r: r.kwear_validation.update({seed: _kv_summary(reps, rula=rula)})
+
+
+def _ms(seed, **kw):
+    return lambda r: r.multi_subject.update({seed: _ms_summary(**kw)})
+
+
+SHARES_A1_FIRST = {"a1": 0.8, "a2": 0.7, "a3": 0.1, "a4": 0.1}
+
+
+@pytest.mark.parametrize(("change", "figures"), [
+    (_kv(0, ("HHHHR", "RHHHR", "HHHRH", "HRHHH")), ("Table 1, KWear allocation",)),
+    (lambda r: (_kv(1, ("HHHHH", "RRRHH", "HHHRH", "HRHHH"))(r), _kv(2, ("HHHHH",) * 4)(r)),
+     ("seeds holding that shape",)),
+    (_kv(4, rula="HHRHH"), ("RULA-baseline",)),
+    (_ms(1, share=0.5), ("robot share of a1-a4",)),
+    (_ms(0, by_action=SHARES_A1_FIRST), ("robot share a1 / a2", "a1 between")),
+    (_ms(0, h_overruns=1), ("H-only repetitions over the takt",)),
+    (_ms(0, overruns=40), ("HRC repetitions over the takt",)),
+    (_ms(0, lower=False), ("Wilcoxon",)),
+    (lambda r: [_ms(s, g={"a1": 5, "a2": 5, "a3": 3, "a4": 3, "a5": 4})(r) for s in range(3)],
+     ("riskiest action",)),
+    (lambda r: r.robot_only.update({"repetition_mean_s": 50.0}), ("robot-only assembly",)),
+])
+def test_each_rule_catches_its_departure(change, figures):
+    runs = _runs()
+    runs = Runs(copy.deepcopy(runs.kwear_validation), copy.deepcopy(runs.multi_subject),
+                dict(runs.robot_only), {})
+    change(runs)
+    failed = [r.figure for r in fidelity_rows(runs, FULL_BOUNDS) if not r.ok]
+    assert failed and all(f.startswith(figures) for f in failed), failed
+    assert all(any(f.startswith(x) for f in failed) for x in figures), failed
+
+
+def test_table1_reads_the_allocation_rows():
+    s = _kv_summary(paper.TABLE1_KWEAR)
+    assert table1_of(s, "hrc") == list(paper.TABLE1_KWEAR)
+
+
+def test_the_calibrated_pace_is_the_middle_of_the_band_the_fact_allows():
+    rows = [PaceRow(0.15, {0: 1, 1: 1, 2: 2}), PaceRow(0.2, {0: 2, 1: 2, 2: 1}),
+            PaceRow(0.3, {0: 2, 1: 2, 2: 2}), PaceRow(0.45, {0: 2, 1: None, 2: 2}),
+            PaceRow(0.6, {0: None, 1: None, 2: None})]
+    assert calibrated_pace(rows) == pytest.approx((0.2 * 0.45) ** 0.5)
+    assert calibrated_pace(rows[-1:]) is None
+
+
+@pytest.mark.parametrize("parameter", PARAMETERS)
+def test_sensitivity_overrides_are_valid_scenarios(parameter):
+    for factor in (0.9, 1.1):
+        over = scaled_overrides(parameter, factor)
+        assert any(over.values())
+        for name, o in over.items():
+            load_scenario(name, o)  # a bad key or a floating part would raise
+
+
+def test_piece_distances_scale_about_the_worker_on_their_surface():
+    doc = load_scenario("multi-subject").cell_doc
+    for factor in (0.9, 1.1):
+        over = scaled_overrides("piece_distance", factor)["multi-subject"]
+        base = doc["parts"]["S1"]["xy"]  # on the bench, well inside it: scaled exactly
+        x, y = (float(v) for v in over["scene.parts.S1.xy"].split(","))
+        assert (x, y) == pytest.approx((base[0] * factor, base[1] * factor), abs=1e-4)
+        j = [float(v) for v in over["scene.parts.J.xy"].split(",")]
+        table = doc["furniture"]["side_table"]
+        assert abs(j[1] - table["center"][1]) <= table["size"][1] / 2  # J stays on the side table
+
+
+REPRODUCED = ("Table 1, KWear allocation", "seeds holding that shape", "RULA-baseline allocation",
+              "robot share of a1-a4", "H-only repetitions over the takt", "Wilcoxon",
+              "G(a1..a5), RULA (the posture held longest)")
+"""Rows of the report that the twin reproduces in its full form too (docs/fidelity.md); the quick form must
+reproduce them as well. The other rows are reported, ✓ or ✗, and docs/fidelity.md explains each ✗."""
+
+
+@pytest.mark.slow
+def test_quick_report_runs_end_to_end(tmp_path, capsys):
+    out = tmp_path / "fid"
+    code = main(["fidelity", "--quick", "--out", str(out), "--jobs", "2"])
+    printed = capsys.readouterr().out
+    doc = json.loads((out / "fidelity.json").read_text())
+    assert code == (0 if doc["passed"] == doc["total"] else 1)
+    assert (out / "fidelity.png").stat().st_size > 10_000
+    assert doc["form"] == "quick" and doc["plan"]["ms_subjects"] == QUICK.ms_subjects
+    assert f"{doc['passed']} of {doc['total']} rows within their bounds" in printed
+    rows = {r["figure"]: r for r in doc["rows"]}
+    for figure in REPRODUCED:
+        matching = [r for f, r in rows.items() if f.startswith(figure)]
+        assert matching and all(r["ok"] for r in matching), matching
+    for run in doc["runs"].values():  # every figure traces back to a run's files
+        assert Path(run).exists(), run
