@@ -35,7 +35,7 @@ __all__ = ["MANIFEST", "RUN_STATUSES", "OUTPUT_PATTERNS", "RunFolder"]
 MANIFEST = "run.json"
 RUN_STATUSES = ("running", "complete", "abandoned", "interrupted", "failed")
 OUTPUT_PATTERNS = (
-    MANIFEST, "summary.json", "allocations.csv", "failures.csv", "ticks.csv", "subjects.csv",
+    MANIFEST, "summary.json", "team.json", "allocations.csv", "failures.csv", "ticks.csv", "subjects.csv",
     "kwear_actions.csv", "kwear_*.png",
     "kwear_timeline_*.png", "allocation_histogram.png", "kwear_state_*.json",
 )

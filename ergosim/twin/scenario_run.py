@@ -38,6 +38,7 @@ from ergosim.twin.run_folder import RunFolder
 from ergosim.twin.runner import SubjectResult, run_subject, scenario_subject, subject_cell
 from ergosim.twin.scenario import ScenarioConfig
 from ergosim.twin.scenariofile import Scenario
+from ergosim.twin.team_metrics import team_document, team_in_summary
 
 __all__ = ["run_scenario", "ScenarioResult", "EXIT_ABANDONED"]
 
@@ -74,7 +75,7 @@ def _write(out: Path, name: str, seed: int, cfg: ScenarioConfig, results: list[S
     extra = {
         "subjects": [r.name for r in results],
         "calibration": calibration_summary(results),
-        "config": {k: v for k, v in vars(cfg).items()},
+        "config": cfg.record(),
     }
     summary = summarise(name, seed, modes, actions=list(_actions(results)), complete=complete, extra=extra)
     summary["rula_g_by_action"] = extra["calibration"]["rula_g_by_action"]  # G(a_k) per action, over subjects
@@ -84,6 +85,10 @@ def _write(out: Path, name: str, seed: int, cfg: ScenarioConfig, results: list[S
     summary["subjects_finished"] = len(results)
     summary["subjects_planned"] = cfg.subjects
     summary["repetitions_abandoned"] = abandoned
+    team = team_document(cfg, modes)  # team.json; in summary.json too once a team setting is not the paper's
+    write_json(out / "team.json", team)
+    if team_in_summary(cfg, modes):
+        summary["team"] = team
     runs = [r.runs[m] for r in results for m in cfg.modes if m in r.runs]
     write_allocations(out / "allocations.csv", [a for run in runs for a in run.allocations])
     write_failures(out / "failures.csv", [f for run in runs for f in run.failures])
@@ -139,7 +144,7 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
     recording = recorder is not None and recorder.enabled
     record_mode = (record_mode or cfg.modes[0]) if recording else None
     folder = RunFolder(out, scenario=name, seed=seed)
-    folder.claim({k: v for k, v in vars(cfg).items()})
+    folder.claim(cfg.record())
     jobs = max(1, min(jobs or os.cpu_count() or 1, cfg.subjects))
     kept = {(record_subject, record_mode)} if record_mode is not None else set()
     if video is not None:
