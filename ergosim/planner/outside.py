@@ -80,7 +80,11 @@ def outside_costs(graph: AndOrGraph, value: np.ndarray, cost: np.ndarray) -> np.
     """U (n_nodes + 1,) for node costs ``value`` (from :func:`~ergosim.planner.bottom_up.node_costs`) and
     hyper-arc costs ``cost`` (+inf = pruned). Nodes that cannot lie on any complete plan get +inf."""
     tl = team_layout(graph)
-    best = np.minimum.reduceat(cost[tl.op_perm], tl.op_start[:-1]) if len(graph.operations) else cost[:0]
+    best = np.full(len(graph.operations), np.inf)  # per operation, its cheapest hyper-arc
+    starts = tl.op_start[:-1]
+    some = tl.op_start[1:] > starts  # an operation no agent may do has no hyper-arc
+    if some.any():
+        best[some] = np.minimum.reduceat(cost[tl.op_perm], starts[some])
     outside = np.full(graph.n_nodes + 1, np.inf)
     outside[graph._root] = 0.0
     with np.errstate(over="ignore"):
