@@ -12,6 +12,9 @@ import pytest
 
 from ergosim.cli import main
 from ergosim.errors import ConfigError
+from ergosim.planner import bundled_task
+from ergosim.twin.allocator import Allocator
+from ergosim.twin.modes import Mode
 from ergosim.twin.scenariofile import load_scenario
 from ergosim.viz import RecordingReader
 from ergosim.viz.paths import ALLOCATION_LOG
@@ -152,10 +155,6 @@ def test_the_safety_table_is_read_and_overridden():
 
 
 def test_the_time_term_moves_work_to_the_faster_agent():
-    from ergosim.planner import bundled_task
-    from ergosim.twin.allocator import Allocator
-    from ergosim.twin.modes import Mode
-
     graph = bundled_task("gearbox")
     plain = Mode("plain", "fixed task costs")
     slow_worker = {(a, "human"): 10.0 for a in graph.actions} | {(a, "robot"): 1.0 for a in graph.actions}

@@ -29,8 +29,9 @@ class SafetyRecord:
 
     ``scaled``: the robots' speed was scaled (SSM on); ``min_separation`` and when it happened;
     ``slowed``/``stopped``: per robot, the time its motion ran below full speed / was stopped;
-    ``overlap``: time any robot capsule overlapped a worker capsule (separation <= 0), of which
-    ``overlap_moving`` while that robot was moving (not holding still for the worker to take a part);
+    ``overlap``: time any robot capsule overlapped a worker capsule (separation <= 0: the worker's kinematic
+    body reaching into the robot, or taking a part from its gripper), of which ``overlap_moving`` while that
+    robot was moving (neither stopped by the monitor nor holding still);
     ``end_separation``: the separation when the run ended (the robot must not end inside the worker)."""
 
     scaled: bool
@@ -114,7 +115,6 @@ class SafetyMonitor:
         for name, track in self.robots.items():
             sep = self.sep.separation(data, name, human, self._held(name))
             closest = min(closest, sep.distance)
-            moving_overlap |= sep.distance <= 0.0 and track.moving
             if self.scale:
                 factor = 1.0
                 if track.moving:
@@ -126,6 +126,7 @@ class SafetyMonitor:
                     elif factor < 1.0:
                         self.slowed[name] += self.dt
                 track.speed = factor
+            moving_overlap |= sep.distance <= 0.0 and track.moving and track.speed > 0.0
         self._prev = human
         if closest < self.min_separation:
             self.min_separation, self.min_time = closest, plant.time

@@ -153,7 +153,9 @@ class TeamSession(Session):
                 return True
 
     def _active(self) -> bool:
-        return self.worker_job is not None or any(j.state != "homing" for j in self.robot_jobs.values())
+        """Some agent is at work, or a robot is on its way home (it is free again soon): wait for it rather
+        than give up or give an agent what the plan keeps from it."""
+        return self.worker_job is not None or bool(self.robot_jobs)
 
     # -- starting jobs ---------------------------------------------------------------------------------------
     def _start(self, decision: Decision, step, rep: int) -> bool:
@@ -323,6 +325,13 @@ class TeamSession(Session):
         self.allocations.append(self._allocation(decision, rep, job.order, job.t0, t_end,
                                                  "done" if out.ok else f"failed:{_reason(out.status)}",
                                                  job.attempt))
+
+    def perform(self, action: str, agent: str) -> Outcome:
+        """One action alone, as :meth:`Session.perform` (the robots then step together again)."""
+        try:
+            return super().perform(action, agent)
+        finally:
+            self.plant.robot = RobotGroup(self.robots.values())
 
     def run(self, repetitions: int):
         run = super().run(repetitions)
