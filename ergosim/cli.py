@@ -18,7 +18,8 @@ from ergosim.errors import ErgosimError
 
 __all__ = ["main", "build_parser"]
 
-COMMANDS = ("plan", "run", "scenarios", "replay", "render", "plot", "fidelity")
+COMMANDS = ("plan", "run", "scenarios", "replay", "render", "plot", "fidelity", "sweep", "compare",
+            "merge")
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -202,7 +202,10 @@ def test_outputs_are_byte_identical_with_and_without_video(tmp_path, capsys):
         assert (plain / name).read_bytes() == (filmed / name).read_bytes(), name
     meta, frames = read_mp4(tmp_path / "run.mp4")
     summary = json.loads((filmed / "summary.json").read_text())
-    assert summary["complete"] and meta["size"] == (320, 180) and 20 < len(frames) < 40
+    # one repetition at x40 and 30 fps: a frame per 4/3 s of simulated time
+    rep = summary["modes"]["hrc"]["repetitions"][0]
+    assert summary["complete"] and meta["size"] == (320, 180)
+    assert abs(len(frames) - rep["duration_s"] * 30 / 40) <= 2, (len(frames), rep["duration_s"])
 
 
 @pytest.mark.parametrize(("args", "needle"), [

@@ -18,7 +18,7 @@ from ergosim.commands.video_options import add_video_arguments, check_can_render
 from ergosim.errors import ConfigError, ErgosimError
 from ergosim.overrides import parse_assignments
 
-__all__ = ["add_parser", "run"]
+__all__ = ["add_parser", "run", "subject_range"]
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
@@ -34,6 +34,9 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument("--subjects", type=int, help="number of synthetic subjects (default: the scenario's)")
     p.add_argument("--reps", type=int, help="repetitions per subject and mode")
     p.add_argument("--mode", choices=mode_names(), help="run only this mode (default: the scenario's modes)")
+    p.add_argument("--subject-range", metavar="A:B",
+                   help="run only subjects A..B-1 of the population (0-based, end exclusive: 0:6 and 6:12 "
+                        "split 12 subjects), seeded as in the whole run; `ergosim merge` joins the shards")
     p.add_argument("--seed", type=int, default=0,
                    help="random seed, an integer >= 0 (default 0); same seed, same results")
     p.add_argument("--jobs", type=int, help="parallel processes (default: all cores)")
@@ -83,13 +86,42 @@ def _scenario(args):
         raise ConfigError("--rrd-subject/--rrd-mode choose what to record: give --rrd FILE, --spawn or "
                           "--connect as well", where="--rrd-subject" if args.rrd_subject is not None
                           else "--rrd-mode")
-    if args.rrd_subject is not None and not 0 <= args.rrd_subject < cfg.subjects:
-        raise ConfigError(f"must be a subject index in 0..{cfg.subjects - 1}, got {args.rrd_subject}",
-                          where="--rrd-subject")
+    subjects = subject_range(args.subject_range, cfg.subjects)
+    if args.rrd_subject is not None and args.rrd_subject not in subjects:
+        raise ConfigError(f"must be a subject index in {subjects.start}..{subjects.stop - 1}, got "
+                          f"{args.rrd_subject}", where="--rrd-subject")
     if args.rrd_mode is not None and args.rrd_mode not in cfg.modes:
         raise ConfigError(f"mode {args.rrd_mode!r} is not run; modes run: {', '.join(cfg.modes)}",
                           where="--rrd-mode")
-    return scenario
+    return scenario, subjects
+
+
+def subject_range(text: str | None, n: int) -> range:
+    """``--subject-range A:B`` (either end may be left out) as a range of subject indices in 0..n-1."""
+    if text is None:
+        return range(n)
+    first, sep, end = text.partition(":")
+    try:
+        a = int(first) if first.strip() else 0
+        b = int(end) if end.strip() else n
+    except ValueError:
+        a = b = -1
+    if not sep or not 0 <= a < b <= n:
+        raise ConfigError(f"expected A:B with 0 <= A < B <= {n} (the number of subjects), got {text!r}",
+                          where="--subject-range")
+    return range(a, b)
+
+
+def _in_shard(subjects: range, n: int, **chosen) -> None:
+    """``--plot-subject`` and ``--video-subject`` name subjects of the shard ``--subject-range`` runs."""
+    if len(subjects) == n:
+        return
+    for option, value in chosen.items():
+        wanted = [value] if isinstance(value, int) else list(value or ())
+        outside = [s for s in wanted if s not in subjects]
+        if outside:
+            raise ConfigError(f"subject {outside[0]} is not in the shard {subjects.start}:{subjects.stop} "
+                              "(--subject-range)", where=f"--{option.replace('_', '-')}")
 
 
 def _precheck(scenario) -> None:
@@ -104,7 +136,7 @@ def run(args) -> int:
     from ergosim.twin.summary_text import summary_text  # noqa: PLC0415
     from ergosim.viz import open_recording  # noqa: PLC0415
 
-    scenario = _scenario(args)
+    scenario, subjects = _scenario(args)
     cfg = scenario.protocol
     out = Path(args.out) if args.out else Path("results") / scenario.name
     if out.exists() and not out.is_dir():  # before a viewer is spawned; run_scenario checks the rest
@@ -114,6 +146,8 @@ def run(args) -> int:
     if plot_subjects and max(plot_subjects) >= cfg.subjects:
         raise ConfigError(f"must be subject indices in 0..{cfg.subjects - 1}, got {args.plot_subject}",
                           where="--plot-subject")
+    _in_shard(subjects, cfg.subjects, plot_subjects=plot_subjects,
+              video=None if video is None else video.subject)
     _precheck(scenario)
     if video is not None:
         check_can_render()
@@ -123,8 +157,9 @@ def run(args) -> int:
     try:
         result = run_scenario(scenario, seed=args.seed, out=out, jobs=args.jobs or os.cpu_count(),
                               progress=not args.quiet, recorder=recorder,
-                              record_subject=args.rrd_subject or 0, record_mode=args.rrd_mode, video=video,
-                              plot_subjects=plot_subjects)
+                              record_subject=args.rrd_subject if args.rrd_subject is not None
+                              else subjects.start, record_mode=args.rrd_mode, video=video,
+                              plot_subjects=plot_subjects, subjects=subjects)
         committed = True
     finally:
         try:

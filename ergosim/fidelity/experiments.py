@@ -36,7 +36,7 @@ class Plan:
 
 FULL = Plan("full", kv_seeds=(0, 1, 2, 3, 4), ms_seeds=(0, 1, 2), ms_subjects=12, ms_reps=10,
             robot_only_subjects=12)
-QUICK = Plan("quick", kv_seeds=(0, 1), ms_seeds=(0,), ms_subjects=6, ms_reps=4, robot_only_subjects=2)
+QUICK = Plan("quick", kv_seeds=(0, 1), ms_seeds=(0,), ms_subjects=6, ms_reps=10, robot_only_subjects=2)
 
 
 @dataclasses.dataclass(frozen=True)

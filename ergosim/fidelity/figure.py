@@ -63,8 +63,9 @@ def fidelity_figure(doc: Mapping, path: Path) -> None:
     if len(seeds) > 1:
         ax.errorbar(x + 0.2, mean, yerr=[mean - twin.min(axis=0), twin.max(axis=0) - mean], fmt="none",
                     ecolor="black", capsize=4, linewidth=1)
-    for xi, v in zip(x + 0.2, mean, strict=True):
-        ax.text(xi, v + 1.5, f"{v:.0f}", ha="center", fontsize=9)
+    top = twin.max(axis=0)  # the label sits above the seeds' range
+    for xi, v, t in zip(x + 0.2, mean, top, strict=True):
+        ax.text(xi, t + 1.5, f"{v:.0f}", ha="center", fontsize=9)
     for xi, a in zip(x - 0.2, actions, strict=True):
         ax.text(xi, paper.ROBOT_SHARE_BY_ACTION[a] * 100 + 1.5, f"{paper.ROBOT_SHARE_BY_ACTION[a] * 100:.0f}",
                 ha="center", fontsize=9)

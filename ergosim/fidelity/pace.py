@@ -1,5 +1,8 @@
-"""Calibrating §7.1's worker pace against the one timing fact §7.1 reports.
+"""Calibrating the workers' pace against the timing facts of §7.1 and §7.2.
 
+Both experiments' pace is the geometric middle of the band of paces that the paper's facts allow.
+
+§7.1.
 §7.1 gives no durations. Its Table 1 does say when the subject's wear first reached V_th = 0.8: at the
 start of rp2 (rp1 all H, a1 of rp2 by the robot). With the paper's KWear constants (eq. 6-7) that fixes how
 long the subject spent in her postures per action: at MTM-1 standard pace (a trained operator in practised
@@ -12,6 +15,12 @@ seed, the repetition of the first robot decision. The calibrated pace is the mid
 interval where most seeds first call the robot in rp2: the centre of the band that the fact allows, not an
 edge of it. Only this first crossing is calibrated; which actions go to the robot in rp2-rp4, and how many,
 are left to the simulation and checked by the fidelity report.
+
+§7.2. "In H only ... when the human finished the repetition, he had to wait until T_takt passed": every
+subject's H-only repetition fitted in the takt. Durations scale as 1 / pace, so the slowest H-only repetition
+at MTM-1 standard pace, T_1, bounds the pace from below: pace >= T_1 / T_takt. MTM-1's standard is a
+practised operator's, which naive subjects do not beat: pace <= 1. :func:`h_only_band` measures T_1 over
+the subjects of the given seeds; the calibrated pace is sqrt(T_1 / T_takt).
 """
 
 from __future__ import annotations
@@ -26,7 +35,7 @@ from ergosim.fidelity.checks import table1_of
 from ergosim.twin.scenario_run import run_scenario
 from ergosim.twin.scenariofile import load_scenario
 
-__all__ = ["PaceRow", "first_robot_repetition", "pace_scan", "calibrated_pace"]
+__all__ = ["PaceRow", "first_robot_repetition", "pace_scan", "calibrated_pace", "h_only_band"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -66,3 +75,21 @@ def calibrated_pace(rows: Sequence[PaceRow], target_rep: int = 2) -> float | Non
     if not ok:
         return None
     return math.sqrt(min(ok) * max(ok))
+
+
+def h_only_band(seeds: Sequence[int], scenario: str = "multi-subject",
+                log: Callable[[str], None] = lambda _msg: None) -> tuple[float, float, float]:
+    """(lowest pace, highest pace, calibrated pace) that §7.2's H-only fact allows: one H-only repetition of
+    every subject of ``seeds`` at MTM-1 standard pace; the slowest, T_1, over the takt is the lowest pace."""
+    slowest = 0.0
+    takt = load_scenario(scenario).protocol.takt
+    for seed in seeds:
+        sc = load_scenario(scenario, {"pace": "1.0", "modes": "h-only", "repetitions": "1"})
+        with tempfile.TemporaryDirectory() as tmp:
+            result = run_scenario(sc, seed=seed, out=Path(tmp) / "run", jobs=None, progress=False)
+        reps = [r["duration_s"] for r in result.summary["modes"]["h-only"]["repetitions"]
+                if r["duration_s"] is not None]
+        log(f"seed {seed}: H-only repetitions at MTM-1 standard pace take {min(reps):.1f}-{max(reps):.1f} s")
+        slowest = max(slowest, *reps)
+    low = slowest / takt
+    return low, 1.0, math.sqrt(low * 1.0)

@@ -418,16 +418,22 @@ class _Carry(Skill):
         return way, place
 
     def _plan_carry(self, target: Pose, approach_dir: np.ndarray, stand: float,
-                    contact: float) -> tuple[_Motion, _Motion, Pose]:
+                    contact: float) -> tuple[_Motion, _Motion, Pose, _Motion]:
         """Plan reach + carry for the part's origin to end at ``target`` (world), arriving along
-        ``-approach_dir`` from ``stand`` [m] away, the last ``contact`` [m] at the contact speed. Returns
-        (reach, carry, place_tcp) or raises PathError."""
+        ``-approach_dir`` from ``stand`` [m] away, the last ``contact`` [m] at the contact speed, and the
+        way out from there (:meth:`_leave` along ``approach_dir``, ``contact`` [m]). Returns (reach, carry,
+        place_tcp, leave) or raises PathError.
+
+        Both grasps of the part (the top-down grasp and the same turned 180 deg) are planned and the one
+        that is done sooner is taken: with the wrist near a limit, one of them may need the wrist wound the
+        long way round, there or on the way home."""
         part_pos, part_quat = self.wc.body_pose(self.part)
         part_rot = _quat_to_mat(part_quat)
         q0, tcp0 = self._q(), self._tcp_world()
         p = self.params
         up = np.array([0.0, 0.0, 1.0])
         error: PathError | None = None
+        best = None
         for g in self._grasp_candidates(self.grasp_body):
             rel_p, rel_r = g.rot.T @ (part_pos - g.pos), g.rot.T @ part_rot
             way, place = self._carry_waypoints(g, rel_p, rel_r, target, approach_dir, stand, contact)
@@ -438,11 +444,18 @@ class _Carry(Skill):
                                         _Waypoint(pre_grasp, "joint"),
                                         _Waypoint(g, slow_last=self.zone)])
                 carry = self._plan(reach.end, way)
-                self._plan_args = (g, target, approach_dir, stand, contact)
-                return reach, carry, place
+                leave = self._leave(carry.end, place, approach_dir, contact)
             except PathError as err:
                 error = err
-        raise error  # type: ignore[misc]
+                continue
+            steps = len(reach.q) + len(carry.q) + len(leave.q)
+            if best is None or steps < best[0]:
+                best = (steps, reach, carry, place, leave, g)
+        if best is None:
+            raise error  # type: ignore[misc]
+        _, reach, carry, place, leave, g = best
+        self._plan_args = (g, target, approach_dir, stand, contact)
+        return reach, carry, place, leave
 
     def _replan_carry(self, carry: _Motion) -> _Motion:
         """Re-plan the carry from the actual grasp (the fingers may have shifted the part); keeps the
@@ -550,8 +563,7 @@ class PickPlace(_Carry):
         self.zone = self.contact_zone()
         contact = stand if self.seat else self.zone
         try:
-            reach, carry, place = self._plan_carry(self.target, self.approach_dir, stand, contact)
-            leave = self._leave(carry.end, place, self.approach_dir, contact)
+            reach, carry, place, leave = self._plan_carry(self.target, self.approach_dir, stand, contact)
         except PathError as err:
             yield
             return self._finish(SkillStatus.UNREACHABLE, f"cannot take {self.part} to "
@@ -629,8 +641,7 @@ class Handover(_Carry):
         # the part comes down into the handover pose and the hand leaves upwards, both next to the worker
         try:
             self.zone = self.contact_zone()
-            reach, carry, place = self._plan_carry(self.target, up, self.zone, self.zone)
-            leave = self._leave(carry.end, place, up, self.zone)
+            reach, carry, place, leave = self._plan_carry(self.target, up, self.zone, self.zone)
         except PathError as err:
             yield
             return self._finish(SkillStatus.UNREACHABLE, f"cannot hand {self.part} over at "

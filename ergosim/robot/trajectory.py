@@ -135,6 +135,43 @@ def _timed(knots: np.ndarray, times: np.ndarray, lengths: np.ndarray, angles: np
     return speed_profile(ds, caps, acc, dt)
 
 
+def _line_ik(kin: PandaKinematics, q_start: np.ndarray, start: Pose, goal: Pose, rot_log: np.ndarray,
+             knots: np.ndarray, limits: MotionLimits) -> tuple[np.ndarray, np.ndarray]:
+    """IK along the line at ``knots`` (warm-started knot to knot): the knots used and (n, 7) solutions.
+
+    A joint change over ``limits.max_joint_step`` between two knots is split in half, down to an eighth of
+    the spacing: where the arm only moves steeply it shrinks with the spacing, a switch of IK branch does
+    not (:class:`PathError`)."""
+    done, qs = [0.0], [np.asarray(q_start, dtype=float)]
+    todo = list(knots[1:][::-1])  # a stack, next knot last
+    shortest = float(np.min(np.diff(knots))) / 8 if len(knots) > 1 else 0.0
+    while todo:
+        s = todo[-1]
+        pos = start.pos + s * (goal.pos - start.pos)
+        rot = start.rot @ pin.exp3(s * rot_log)
+        # intermediate knots of a transit need not be exact (1 mm, 0.5 deg); the segment's end does
+        loose = s < 1.0
+        tol = dict(tol_pos=1e-3 if loose else 2e-4, tol_rot_deg=0.5 if loose else 0.05)
+        res = solve_ik(kin, pos, rot, qs[-1], q_pref=kin.home, max_iter=100, **tol)
+        if not res.ok:  # the pull towards home can pin a joint at its limit near the workspace's edge
+            res = solve_ik(kin, pos, rot, qs[-1], q_pref=qs[-1], max_iter=100, **tol)
+        if not res.ok:
+            raise PathError(f"no IK solution at {np.round(pos, 3).tolist()} (base frame), "
+                            f"{res.pos_error * 1000:.0f} mm and {res.rot_error_deg:.0f} deg short",
+                            res.pos_error)
+        jump = float(np.max(np.abs(res.q - qs[-1])))
+        if jump > limits.max_joint_step:
+            if s - done[-1] > shortest * 1.001:
+                todo.append(0.5 * (done[-1] + s))
+                continue
+            raise PathError(f"the straight line near {np.round(pos, 3).tolist()} (base frame) needs a "
+                            f"joint flip of {jump:.2f} rad")
+        done.append(s)
+        qs.append(res.q)
+        todo.pop()
+    return np.array(done), np.array(qs)
+
+
 def line_trajectory(kin: PandaKinematics, q_start: np.ndarray, start: Pose, goal: Pose, limits: MotionLimits,
                     dt: float, kind: str = "contact", slow_first: float = 0.0,
                     slow_last: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
@@ -159,26 +196,7 @@ def line_trajectory(kin: PandaKinematics, q_start: np.ndarray, start: Pose, goal
     else:
         lo, hi = 0.0, 1.0  # a turn on the spot has no contact zone
     knots = np.unique(np.concatenate([knots, [x for x in (lo, hi) if 0.0 < x < 1.0]]))
-    qs = np.empty((len(knots), kin.nq))
-    qs[0] = q_start
-    for i in range(1, len(knots)):
-        s = knots[i]
-        pos = start.pos + s * (goal.pos - start.pos)
-        rot = start.rot @ pin.exp3(s * rot_log)
-        # intermediate knots of a transit need not be exact (1 mm, 0.5 deg); the segment's end does
-        loose = i < len(knots) - 1
-        tol = dict(tol_pos=1e-3 if loose else 2e-4, tol_rot_deg=0.5 if loose else 0.05)
-        res = solve_ik(kin, pos, rot, qs[i - 1], q_pref=kin.home, max_iter=100, **tol)
-        if not res.ok:  # the pull towards home can pin a joint at its limit near the workspace's edge
-            res = solve_ik(kin, pos, rot, qs[i - 1], q_pref=qs[i - 1], max_iter=100, **tol)
-        if not res.ok:
-            raise PathError(f"no IK solution at {np.round(pos, 3).tolist()} (base frame), "
-                            f"{res.pos_error * 1000:.0f} mm and {res.rot_error_deg:.0f} deg short",
-                            res.pos_error)
-        if np.max(np.abs(res.q - qs[i - 1])) > limits.max_joint_step:
-            raise PathError(f"the straight line near {np.round(pos, 3).tolist()} (base frame) needs a "
-                            f"joint flip of {np.max(np.abs(res.q - qs[i - 1])):.2f} rad")
-        qs[i] = res.q
+    knots, qs = _line_ik(kin, q_start, start, goal, rot_log, knots, limits)
     mid = 0.5 * (knots[:-1] + knots[1:])
     slow = (mid < lo) | (mid > hi)
     fast = limits.limit(kind)

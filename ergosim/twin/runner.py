@@ -163,15 +163,20 @@ def subject_session(scenario: Scenario, index: int, seed: int, mode: str, *, cal
 
 
 def run_subject(scenario: Scenario, index: int, seed: int, modes: tuple[str, ...],
-                record_mode: str | tuple[str, ...] | None = None) -> SubjectResult:
+                record_mode: str | tuple[str, ...] | None = None,
+                slots: tuple[int, ...] | None = None) -> SubjectResult:
     """Calibrate subject ``index`` of ``seed``'s population, then run each mode from zero wear.
 
     ``record_mode``: keep body poses per tick for that mode's run, or those modes' runs (for the rerun
-    recording and the video); copying the poses changes nothing in the simulation."""
+    recording and the video); copying the poses changes nothing in the simulation. ``slots``: the random
+    stream of each mode, its position in the run's mode list (default ``0, 1, ...``): the calibration
+    draws from child 0 of ``SeedSequence([seed, index])`` and mode slot k from child 1 + k, so one mode
+    run alone with its slot (a sweep's work unit) equals that mode in the whole run."""
     cfg = scenario.protocol
     recorded = {record_mode} if isinstance(record_mode, str) else set(record_mode or ())
     subject = scenario_subject(scenario, index, seed)
-    seqs = np.random.SeedSequence([seed, index]).spawn(1 + len(modes))
+    slots = tuple(range(len(modes))) if slots is None else tuple(slots)
+    seqs = [np.random.SeedSequence([seed, index], spawn_key=(k,)) for k in (0, *(1 + s for s in slots))]
     calibration, traces, mtm, seconds = _calibrate(scenario, subject, np.random.default_rng(seqs[0]))
     runs: dict[str, SubjectRun] = {}
     for mode, seq in zip(modes, seqs[1:], strict=True):

@@ -19,25 +19,18 @@ from pathlib import Path
 
 from ergosim.atomic import write_json
 from ergosim.plugins import extension_modules, import_extensions
-from ergosim.twin.calibration_summary import calibration_summary
 from ergosim.twin.interrupt import Interrupted, interrupt_on_signals, quiet_worker, signals_ignored, stop_pool
 from ergosim.twin.kwear_state import state_document
 from ergosim.twin.plots import write_plots
 from ergosim.twin.progress import Progress
 from ergosim.twin.recording import record_run
-from ergosim.twin.report import (
-    summarise,
-    write_action_traces,
-    write_allocations,
-    write_failures,
-    write_subjects,
-    write_summary,
-    write_ticks,
-)
+from ergosim.twin.report import write_action_traces, write_subjects, write_summary, write_ticks
 from ergosim.twin.run_folder import RunFolder
+from ergosim.twin.run_summary import summary_of, write_record_files
 from ergosim.twin.runner import SubjectResult, run_subject, scenario_subject, subject_cell
 from ergosim.twin.scenario import ScenarioConfig
 from ergosim.twin.scenariofile import Scenario
+from ergosim.twin.subject_records import SubjectRecord
 from ergosim.twin.team_metrics import team_document, team_in_summary
 
 __all__ = ["run_scenario", "ScenarioResult", "EXIT_ABANDONED"]
@@ -69,29 +62,20 @@ def _job(args) -> SubjectResult:
 
 
 def _write(out: Path, name: str, seed: int, cfg: ScenarioConfig, results: list[SubjectResult],
-           complete: bool, final: bool, status: str = "running", plot_subjects=None) -> dict:
+           complete: bool, final: bool, status: str = "running", plot_subjects=None,
+           subjects: range | None = None) -> dict:
     results = sorted(results, key=lambda r: r.subject)
+    # computed from the subject records (subject_records.json), as `ergosim merge` does for shards
+    records = [SubjectRecord.of(r) for r in results]
+    span = (subjects.start, subjects.stop) if subjects is not None else (0, cfg.subjects)
+    config = cfg.record()
+    summary = summary_of(name, seed, config, records, subject_range=span, complete=complete, status=status)
+    write_record_files(out, name, seed, config, records, subject_range=span)
     modes = {m: [r.runs[m] for r in results if m in r.runs] for m in cfg.modes}
-    extra = {
-        "subjects": [r.name for r in results],
-        "calibration": calibration_summary(results),
-        "config": cfg.record(),
-    }
-    summary = summarise(name, seed, modes, actions=list(_actions(results)), complete=complete, extra=extra)
-    summary["rula_g_by_action"] = extra["calibration"]["rula_g_by_action"]  # G(a_k) per action, over subjects
-    abandoned = sum(m["repetitions_abandoned"] for m in summary["modes"].values())
-    summary["status"] = "abandoned" if status == "complete" and abandoned else status
-    summary["complete"] = complete and not abandoned
-    summary["subjects_finished"] = len(results)
-    summary["subjects_planned"] = cfg.subjects
-    summary["repetitions_abandoned"] = abandoned
     team = team_document(cfg, modes)  # team.json; in summary.json too once a team setting is not the paper's
     write_json(out / "team.json", team)
     if team_in_summary(cfg, modes):
         summary["team"] = team
-    runs = [r.runs[m] for r in results for m in cfg.modes if m in r.runs]
-    write_allocations(out / "allocations.csv", [a for run in runs for a in run.allocations])
-    write_failures(out / "failures.csv", [f for run in runs for f in run.failures])
     if final:
         write_ticks(out / "ticks.csv", [run for r in results for run in r.runs.values()])
         _write_states(out, name, seed, cfg, results)
@@ -119,15 +103,10 @@ def _write_states(out: Path, name: str, seed: int, cfg: ScenarioConfig, results:
             write_json(out / f"kwear_state_s{r.subject}_{mode}.json", doc)
 
 
-def _actions(results: list[SubjectResult]) -> list[str]:
-    for r in results:
-        return sorted(r.alphas)
-    return []
-
-
 def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None = None, progress: bool = True,
                  recorder=None, record_subject: int = 0, record_mode: str | None = None,
-                 video=None, plot_subjects: tuple[int, ...] | None = None) -> ScenarioResult:
+                 video=None, plot_subjects: tuple[int, ...] | None = None,
+                 subjects: range | None = None) -> ScenarioResult:
     """Run ``scenario`` for its subjects and write summary.json, allocations.csv, failures.csv, ticks.csv,
     the KWear state files and PNGs into ``out``, which the run owns (run.json).
 
@@ -135,8 +114,10 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
     ``record_mode`` (default: the first mode) is logged to it (3-D workcell, joint angles, RULA, KWear,
     decisions, failures) once the run is over. ``video`` (a :class:`~ergosim.video.VideoRequest`): that
     subject's run in that mode is rendered to an MP4 after every result is written. ``plot_subjects``: the
-    subjects the timelines and the per-action figure show (default: every subject). SIGINT and SIGTERM stop
-    the run the same way: the finished subjects are written, then
+    subjects the timelines and the per-action figure show (default: every subject). ``subjects``: run only
+    these subjects of the population (a shard, ``ergosim run --subject-range``; default all), each seeded
+    as in the whole run. SIGINT and SIGTERM stop the run the same way: the finished subjects are written,
+    then
     :class:`~ergosim.twin.interrupt.Interrupted` propagates.
     """
     name, cfg = scenario.name, scenario.protocol
@@ -145,14 +126,15 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
     record_mode = (record_mode or cfg.modes[0]) if recording else None
     folder = RunFolder(out, scenario=name, seed=seed)
     folder.claim(cfg.record())
-    jobs = max(1, min(jobs or os.cpu_count() or 1, cfg.subjects))
+    subjects = subjects if subjects is not None else range(cfg.subjects)
+    jobs = max(1, min(jobs or os.cpu_count() or 1, len(subjects)))
     kept = {(record_subject, record_mode)} if record_mode is not None else set()
     if video is not None:
         video = dataclasses.replace(video, mode=video.mode or cfg.modes[0])
         kept.add((video.subject, video.mode))
     args = [(scenario, i, seed, tuple(cfg.modes), tuple(sorted(m for s, m in kept if s == i)),
-             extension_modules()) for i in range(cfg.subjects)]
-    bar = Progress(cfg.subjects, f"{name}: subjects", enabled=progress)
+             extension_modules()) for i in subjects]
+    bar = Progress(len(subjects), f"{name}: subjects", enabled=progress)
     results: list[SubjectResult] = []
     start = time.monotonic()
     status, reason = "failed", ""
@@ -161,7 +143,7 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
             if jobs == 1:
                 for a in args:
                     results.append(_job(a))
-                    _write(out, name, seed, cfg, results, complete=False, final=False)
+                    _write(out, name, seed, cfg, results, complete=False, final=False, subjects=subjects)
                     bar.advance()
             else:
                 ctx = multiprocessing.get_context("spawn")
@@ -171,7 +153,8 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
                 try:
                     for fut in cf.as_completed(futures):
                         results.append(fut.result())
-                        _write(out, name, seed, cfg, results, complete=False, final=False)
+                        _write(out, name, seed, cfg, results, complete=False, final=False,
+                               subjects=subjects)
                         bar.advance()
                 except BaseException:
                     stop_pool(pool)
@@ -192,13 +175,14 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
         with interrupt_on_signals():  # a second Ctrl-C while writing still leaves whole files
             if results:
                 summary = _write(out, name, seed, cfg, results, complete=status == "complete", final=True,
-                                 status=status, plot_subjects=plot_subjects)
+                                 status=status, plot_subjects=plot_subjects, subjects=subjects)
                 if summary["status"] == "abandoned":
                     status = "abandoned"
                     reason = f"{summary['repetitions_abandoned']} repetition(s) abandoned"
                 folder.finish(status, reason)
             elif status == "interrupted":
-                summary = _write(out, name, seed, cfg, results, complete=False, final=True, status=status)
+                summary = _write(out, name, seed, cfg, results, complete=False, final=True, status=status,
+                                 subjects=subjects)
                 folder.finish(status, reason)
             else:
                 summary = {}

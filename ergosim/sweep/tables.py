@@ -1,0 +1,115 @@
+"""The sweep's columnar tables (pyarrow, Parquet): ``results.parquet`` and ``allocations.parquet``.
+
+``results.parquet`` has one row per unit, in the order of the plan (cell, seed, subject, mode):
+
+- ``unit`` (the unit's id), ``cell`` (its index in the design);
+- ``param.<key>`` for every axis (float, integer, bool or string; a vector field as a list of floats);
+- ``subject``, ``seed``, ``mode``, ``status`` (``complete``, ``abandoned`` or ``failed``), ``error``;
+- the metrics of :func:`~ergosim.sweep.metrics.metric_columns`: ``robot_share`` and ``robot_share.<a>``,
+  ``kwear_integral`` [s], ``time_above_vth`` [s], ``kwear_mean``, ``takt_overruns``, ``duration`` [s],
+  ``robot_failures``, ``worker_failures``, ... and ``rula_g.<a>``; null where the unit failed.
+
+A unit not finished yet has no row. ``allocations.parquet`` has one row per attempt of every finished unit
+(``unit``, ``cell``, ``subject``, ``seed``, ``mode`` and the columns of ``allocations.csv``). Both are
+written atomically; the same finished units give the same rows whichever executor ran them.
+"""
+
+from __future__ import annotations
+
+import io
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import pyarrow as pa
+import pyarrow.parquet as pq
+
+from ergosim.atomic import write_bytes
+from ergosim.sweep.metrics import INTEGER_METRICS, metric_columns
+from ergosim.sweep.units import ALLOCATION_FIELDS, Unit
+
+__all__ = ["results_table", "allocations_table", "param_type", "param_value", "write_parquet", "read_parquet",
+           "RESULT_KEYS"]
+
+RESULT_KEYS = ("unit", "cell", "subject", "seed", "mode", "status", "error")
+
+
+def param_type(values: Sequence[Any]) -> pa.DataType:
+    """The column type of an axis with ``values``."""
+    if all(isinstance(v, bool) for v in values):
+        return pa.bool_()
+    if all(isinstance(v, int) and not isinstance(v, bool) for v in values):
+        return pa.int64()
+    if all(isinstance(v, int | float) and not isinstance(v, bool) for v in values):
+        return pa.float64()
+    if all(isinstance(v, tuple) and all(isinstance(x, int | float) for x in v) for v in values):
+        return pa.list_(pa.float64())
+    return pa.string()
+
+
+def param_value(value: Any, kind: pa.DataType) -> Any:
+    if kind == pa.string():
+        from ergosim.sweep.design import set_string  # noqa: PLC0415
+
+        return value if isinstance(value, str) else set_string(value, "param")
+    if kind == pa.float64():
+        return float(value)
+    if kind == pa.list_(pa.float64()):
+        return [float(x) for x in value]
+    return value
+
+
+def results_table(sweep, units: Sequence[Unit], docs: Mapping[str, dict]) -> pa.Table:
+    """One row per unit of ``units`` that has a document in ``docs``, in ``units`` order."""
+    cols = metric_columns(sweep.actions)
+    params = [(a.column, a.key, param_type(a.values)) for a in sweep.axes]
+    fields = [pa.field("unit", pa.string()), pa.field("cell", pa.int32())]
+    fields += [pa.field(col, kind) for col, _, kind in params]
+    fields += [pa.field("subject", pa.int32()), pa.field("seed", pa.int64()), pa.field("mode", pa.string()),
+               pa.field("status", pa.string()), pa.field("error", pa.string())]
+    fields += [pa.field(c, pa.int64() if c in INTEGER_METRICS else pa.float64()) for c in cols]
+    data: dict[str, list] = {f.name: [] for f in fields}
+    for u in units:
+        doc = docs.get(u.id)
+        if doc is None:
+            continue
+        cell = sweep.cells[u.cell]
+        data["unit"].append(u.id)
+        data["cell"].append(u.cell)
+        for col, key, kind in params:
+            data[col].append(param_value(cell.params[key], kind))
+        for key in ("subject", "seed", "mode", "status", "error"):
+            data[key].append(getattr(u, key) if key in ("subject", "seed", "mode") else doc.get(key, ""))
+        metrics = doc.get("metrics") or {}
+        for c in cols:
+            data[c].append(metrics.get(c))
+    return pa.table(data, schema=pa.schema(fields))
+
+
+def allocations_table(units: Sequence[Unit], docs: Mapping[str, dict]) -> pa.Table:
+    """One row per attempt of each finished unit, in ``units`` order, then the unit's attempt order."""
+    kinds = {"repetition": pa.int32(), "order": pa.int32(), "attempt": pa.int32(), "t_start": pa.float64(),
+             "t_end": pa.float64(), "human_cost": pa.float64(), "robot_cost": pa.float64()}
+    fields = [pa.field("unit", pa.string()), pa.field("cell", pa.int32()), pa.field("subject", pa.int32()),
+              pa.field("seed", pa.int64()), pa.field("mode", pa.string())]
+    fields += [pa.field(f, kinds.get(f, pa.string())) for f in ALLOCATION_FIELDS]
+    data: dict[str, list] = {f.name: [] for f in fields}
+    for u in units:
+        doc = docs.get(u.id)
+        for row in (doc or {}).get("allocations", []):
+            for key in ("unit", "cell", "subject", "seed", "mode"):
+                data[key].append(u.id if key == "unit" else getattr(u, key))
+            for f, v in zip(ALLOCATION_FIELDS, row, strict=True):
+                data[f].append(v)
+    return pa.table(data, schema=pa.schema(fields))
+
+
+def write_parquet(path: Path, table: pa.Table) -> None:
+    """``table`` as a Parquet file at ``path``, atomically."""
+    buf = io.BytesIO()
+    pq.write_table(table, buf, compression="zstd")
+    write_bytes(path, buf.getvalue())
+
+
+def read_parquet(path: Path) -> pa.Table:
+    return pq.read_table(path)
