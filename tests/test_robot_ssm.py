@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from ergosim.errors import ConfigError
+from ergosim.robot.skills import Handover
 from ergosim.robot.ssm import SSMParams, allowed_speed, protective_distance, speed_scale
 from ergosim.scenes import build_scene
 from ergosim.scenes.separation import SeparationModel, capsules_of, segment_distances
@@ -118,6 +119,32 @@ def test_the_monitor_slows_a_robot_that_comes_close(cell):
     assert monitor.stopped["robot"] > 0
     rec = monitor.record(_Plant)
     assert rec.min_separation == pytest.approx(min(far, near)) and track.speed == 1.0
+
+
+def test_a_handover_approach_with_the_part_is_not_stopped(cell):
+    """The hand-over window: the contact-speed approach of a handover, part in the gripper, goes on with
+    the worker's hand at the gripper (else an idle worker and the robot wait for each other forever); the
+    same approach without a part (coming to grasp it) is stopped."""
+
+    class _Approach(Handover):
+        phase = "contact"
+
+    class _Plant:
+        data, time, ticks = cell.data, 0.0, 0
+
+    track = RobotTrack(cell)
+    monitor = SafetyMonitor(cell, {"robot": track}, SSMParams(ssm="on"), scale=True, every=1,
+                            dt_control=1 / 60)
+    track.skill = object.__new__(_Approach)
+    mujoco.mj_forward(cell.model, cell.data)
+    hand = cell.model.body("human_left_hand").mocapid[0]
+    cell.data.mocap_pos[hand] = cell.data.site_xpos[cell.robot().tcp]
+    mujoco.mj_forward(cell.model, cell.data)
+    part = capsules_of(cell.model, cell.collision_geoms("L").tolist())
+    monitor._held = lambda robot: part
+    assert monitor.measure(_Plant) < 0.08 and track.speed == 1.0 and monitor.stopped["robot"] == 0
+    monitor._held = lambda robot: None
+    assert monitor.measure(_Plant) < 0.08 and track.speed == 0.0 and monitor.stopped["robot"] > 0
 
 
 def test_planned_time_is_the_skills_time():

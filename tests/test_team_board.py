@@ -135,11 +135,11 @@ class Team:
 
 def _early(graph, draw) -> dict[tuple[str, str], str]:
     robots = [a.name for a in graph.agents if a.kind == "robot"]
-    out = {}
+    out, part = {}, {}
     for op in graph.operations:
         for r in robots:
             if r in op.agents and (op.action, r) not in out and draw(st.integers(0, 2)) == 0:
-                out[(op.action, r)] = op.children[0][0]
+                out[(op.action, r)] = part.setdefault(op.action, op.children[0][0])  # one part per action
     return out
 
 

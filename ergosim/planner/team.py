@@ -88,14 +88,25 @@ def _node_with(graph, nodes: np.ndarray, part: str) -> int:
     raise AssertionError(part)  # a configuration partitions the parts
 
 
-def _costs(graph, reserved: Mapping[str, tuple[str, str]], costs, pruned, added) -> np.ndarray:
-    """The call's hyper-arc costs, with every reserved action given to its agent at no further cost."""
+def _costs(graph, done: list[str], reserved: Mapping[str, tuple[str, str]], costs, pruned,
+           added) -> np.ndarray:
+    """The call's hyper-arc costs, with every reserved action given to its agent at no further cost on the
+    operations it can join: those with the moving part's sub-assembly, as it is now, for a child. (An
+    action label that recurs later in a plan, on a larger sub-assembly, keeps its prices there.)"""
     cost = hyperarc_costs(graph, costs, pruned, added)
-    for action, (agent, _) in reserved.items():
+    if not reserved:
+        return cost
+    nodes = configuration(graph, done)
+    lay = graph._layout
+    for action, (agent, part) in reserved.items():
+        joins = _node_with(graph, nodes, part)
         for other in graph.agents:
             index = graph._key_hyperarcs.get((action, other.name))
-            if index is not None:
-                cost[index] = 0.0 if other.name == agent else np.inf
+            if index is None:
+                continue
+            index = np.asarray(index)
+            index = index[[joins in graph._op_children[int(op)] for op in lay.op[index]]]
+            cost[index] = 0.0 if other.name == agent else np.inf
     return cost
 
 
@@ -131,22 +142,26 @@ def _candidates(graph, state: _State, free: Sequence[str], early: Mapping[tuple[
     ok &= ~state.held
     ok[-1] = True
     ready = np.flatnonzero(ok[tl.op_children].all(axis=1))
-    excluded = np.zeros(len(lay.op), dtype=bool)  # reserved actions, and early keys (started early below)
+    excluded = np.zeros(len(lay.op), dtype=bool)  # reserved actions
     for action in reserved:
         for other in graph.agents:
             index = graph._key_hyperarcs.get((action, other.name))
             if index is not None:
                 excluded[index] = True
     keys = [k for k in early if k[1] in free]
-    for key in keys:
-        index = graph._key_hyperarcs.get(key)
-        if index is not None:
-            excluded[index] = True
     counts = tl.op_start[ready + 1] - tl.op_start[ready]
     offsets = np.repeat(tl.op_start[ready] - np.cumsum(counts) + counts, counts) + np.arange(counts.sum())
     hyperarcs = tl.op_perm[offsets]
     ops = np.repeat(ready, counts)
     keep = free_ids[lay.agent[hyperarcs]] & np.isfinite(state.cost[hyperarcs]) & ~excluded[hyperarcs]
+    for key in keys:  # an early key's hyper-arcs start early (below) where a child holds the moving part
+        index = graph._key_hyperarcs.get(key)
+        if index is None:
+            continue
+        bit = 1 << graph._part_index[early[key]]
+        for i in np.flatnonzero(np.isin(hyperarcs, index)).tolist():
+            if any(graph._node_masks[c] & bit for c in graph._op_children[int(ops[i])]):
+                keep[i] = False
     hyperarcs, ops = hyperarcs[keep], ops[keep]
     parts: list = [None] * len(hyperarcs)
     if keys:
@@ -248,11 +263,15 @@ def team_assign(
     done, running = list(done), list(running)
     reserved = dict(reserved or {})
     early = dict(early or {})
+    moving: dict[str, str] = {}
     for (action, agent), part in early.items():
         if agent not in graph._agent_index or part not in graph._part_index:
             raise ConfigError(f"early hyper-arc ({action!r}, {agent!r}) names an unknown agent or part "
                               f"{part!r}", where="early")
-    state = _evaluate(graph, done, running, reserved, _costs(graph, reserved, costs, pruned, added))
+        if moving.setdefault(action, part) != part:  # a reservation is keyed by its action
+            raise ConfigError(f"early hyper-arcs of action {action!r} move {moving[action]!r} and {part!r}; "
+                              "an action hands over one part", where="early")
+    state = _evaluate(graph, done, running, reserved, _costs(graph, done, reserved, costs, pruned, added))
     optimum = float(state.value[graph._root])
     free = list(idle)
     steps: list[TeamStep] = []
@@ -269,11 +288,16 @@ def team_assign(
             if len(picks) == 1 and not (more and any(k[1] in more for k in early)):
                 break
             try:
-                cost = state.cost if len(res) == len(reserved) else _costs(graph, res, costs, pruned, added)
+                cost = state.cost if len(res) == len(reserved) else _costs(graph, done, res, costs,
+                                                                                   pruned, added)
                 state = _evaluate(graph, done, run, res, cost)
                 break
             except InfeasiblePlanError:
                 picks = picks[:-1]  # the first pick alone is feasible: J(h) is finite
+                if not picks:  # ... but not with its reservation (an action of several operations)
+                    break
+        if not picks:
+            break
         steps += picks
         running, reserved, free = run, res, more
         if not (free and any(k[1] in free for k in early)):

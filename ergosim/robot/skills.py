@@ -549,8 +549,7 @@ class PickPlace(_Carry):
         self.zone = self.contact_zone()
         contact = stand if self.seat else self.zone
         try:
-            reach, carry, place = self._plan_carry(self.target, self.approach_dir, stand, contact)
-            leave = self._leave(carry.end, place, self.approach_dir, contact)
+            reach, carry, _, leave = self._plan_carry(self.target, self.approach_dir, stand, contact)
         except PathError:
             return float("nan")
         steps = len(reach.q) + len(carry.q) + len(leave.q)
@@ -628,8 +627,7 @@ class Handover(_Carry):
         up = np.array([0.0, 0.0, 1.0])
         try:
             self.zone = self.contact_zone()
-            reach, carry, place = self._plan_carry(self.target, up, self.zone, self.zone)
-            leave = self._leave(carry.end, place, up, self.zone)
+            reach, carry, _, leave = self._plan_carry(self.target, up, self.zone, self.zone)
         except PathError:
             return float("nan")
         steps = len(reach.q) + len(carry.q) + len(leave.q)

@@ -6,8 +6,9 @@ towards it (the nearest segment's, from the tracked posture between two samples)
 sets the robot's speed factor from ISO/TS 15066 (:mod:`ergosim.robot.ssm`): full speed above the
 protective separation distance, slower closer, a stop below S_p(0). A robot at a standstill on purpose
 (closing or opening the gripper, holding a part out at a handover, where the worker takes it from a
-stopped robot: ISO 10218-2 §5.11.5 hand-over window) is not scaled. The monitor's figures
-(:class:`SafetyRecord`) go into the run's records.
+stopped robot: ISO 10218-2 §5.11.5 hand-over window) is not scaled, nor is the last, contact-speed
+approach of a handover with the part in the gripper (power and force limiting, ISO/TS 15066 §5.5.5). The
+monitor's figures (:class:`SafetyRecord`) go into the run's records.
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ import math
 
 import numpy as np
 
+from ergosim.robot.skills import Handover
 from ergosim.robot.ssm import SSMParams, speed_scale
 from ergosim.scenes.separation import Capsules, SeparationModel, capsules_of
 
@@ -81,6 +83,15 @@ class SafetyMonitor:
         self.overlap = 0.0
         self.overlap_moving = 0.0
 
+    @staticmethod
+    def _handover_window(track, held) -> bool:
+        """The robot brings a part into the hand-over window: a :class:`~ergosim.robot.skills.Handover`'s
+        contact-speed approach with the part in the gripper. There the robot already moves at the paper's
+        0.05 m/s, a power-and-force-limited speed (ISO/TS 15066 §5.5.5), and the worker's hand is where the
+        part is brought, so the separation monitor does not stop it (else an idle worker standing at the
+        handover pose and a robot stopped short of it wait for each other forever)."""
+        return held is not None and isinstance(track.skill, Handover) and track.skill.phase == "contact"
+
     def _held(self, robot: str) -> Capsules | None:
         cell = self.cell
         geoms = [g for p in cell.parts if cell.is_held(robot, p) for g in cell.collision_geoms(p).tolist()]
@@ -113,11 +124,12 @@ class SafetyMonitor:
         closest = math.inf
         moving_overlap = False
         for name, track in self.robots.items():
-            sep = self.sep.separation(data, name, human, self._held(name))
+            held = self._held(name)
+            sep = self.sep.separation(data, name, human, held)
             closest = min(closest, sep.distance)
             if self.scale:
                 factor = 1.0
-                if track.moving:
+                if track.moving and not self._handover_window(track, held):
                     limits = track.params.limits
                     nominal = limits.speed if track.skill.phase == "contact" else limits.transit_speed
                     factor = speed_scale(self.params, sep.distance, self._human_speed(sep, human), nominal)

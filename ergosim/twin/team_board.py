@@ -54,7 +54,8 @@ class TeamBoard:
 
     def join(self, job: int, action: str) -> str | None:
         """The reserved ``action`` joins now as job ``job``: the operation of ``action`` whose children are
-        the reserved part's sub-assembly and others that exist and nobody holds (None if there is none yet;
+        the reserved part's sub-assembly and others that exist and nobody holds, neither a running operation
+        nor another reservation (None if there is none yet;
         the reservation stays). The job then holds it."""
         graph = self.graph
         _, part = self.reserved[action]
@@ -64,6 +65,10 @@ class TeamBoard:
         tl = team_layout(graph)
         for op in self.running.values():
             free[tl.op_children[graph._op_index[op]]] = False
+        for other, (_, held) in self.reserved.items():  # the parts other robots hold out
+            if other != action:
+                mask = 1 << graph._part_index[held]
+                free[[n for n in nodes.tolist() if graph._node_masks[n] & mask]] = False
         free[-1] = True
         bit = 1 << graph._part_index[part]
         for op in tl.action_ops.get(action, np.zeros(0, np.int64)).tolist():
