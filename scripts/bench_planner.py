@@ -1,9 +1,11 @@
 """Planner benchmark: fast vs paper replan times on the paper's generated tasks (§6), and beyond.
 
     python scripts/bench_planner.py [--json PATH] [--plot PATH] [--quick] [--cap SECONDS] [--seed S]
+                                    [--team-only]
 
-Prints a table as rows complete, then the targets; writes a PNG plot and optionally the rows as JSON.
-The logic lives in ergosim.planner.benchmark.
+First the team decisions (one decision for a whole idle team, beside a replan on the same graph), then the
+replan table as rows complete, then the targets; writes a PNG plot and optionally the rows as JSON. The
+logic lives in ergosim.planner.benchmark and ergosim.planner.benchmark_team.
 """
 
 from __future__ import annotations
@@ -21,6 +23,12 @@ from ergosim.planner.benchmark import (
     run_benchmark,
 )
 from ergosim.planner.benchmark_plot import plot_benchmark
+from ergosim.planner.benchmark_team import (
+    check_team_target,
+    format_team_rows,
+    run_team_benchmark,
+    team_rows_json,
+)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -35,7 +43,17 @@ def main(argv: list[str] | None = None) -> int:
         help=f"paper planner cap per row [s] (default {DEFAULT_CAP_S:g}, quick 5)",
     )
     parser.add_argument("--seed", type=int, default=0, help="seed of the task and replan costs")
+    parser.add_argument("--team-only", action="store_true", help="only the team-decision rows")
     args = parser.parse_args(argv)
+    print("team decisions (every agent idle at the start; times are medians [ms]):", flush=True)
+    team = run_team_benchmark(seed=args.seed, quick=args.quick)
+    print(format_team_rows(team), flush=True)
+    target, met, value = check_team_target(team)
+    print(f"{'not measured' if met is None else ('met' if met else 'MISSED'):>12}  {target}: {value}\n")
+    if args.team_only:
+        if args.json:
+            write_json(args.json, {"team": team_rows_json(team)})
+        return 0
     cap = args.cap if args.cap is not None else (5.0 if args.quick else DEFAULT_CAP_S)
     print(f"paper planner cap: {cap:g} s per row; times are medians of replans [ms]", flush=True)
     print(format_table([]), flush=True)
@@ -51,7 +69,7 @@ def main(argv: list[str] | None = None) -> int:
     plot_benchmark(rows, args.plot)
     print(f"plot: {args.plot}")
     if args.json:
-        write_json(args.json, rows_json(rows))
+        write_json(args.json, {**rows_json(rows), "team": team_rows_json(team)})
         print(f"json: {args.json}")
     return 0
 

@@ -34,6 +34,7 @@ SCHEMAS = {
     "[targets.NAME]": cellfile._TARGET,
     "[actions.LABEL]": cellfile._ACTION,
     "[views.NAME]": cellfile._VIEW,
+    "[safety]": cellfile._SAFETY,
     "scenario top level": dict.fromkeys(scenariofile._TOP),
     "[protocol]": dict.fromkeys(f.name for f in dataclasses.fields(ScenarioConfig)),
 }

@@ -2,7 +2,8 @@
 
 ``load_task``/``parse_task`` read TOML task files, ``generate_task`` builds the complexity-study tasks,
 ``bundled_task`` the bundled tasks (the paper's corner joint, a gearbox); :meth:`AndOrGraph.plan`
-re-plans from any configuration with the ``fast`` (bottom-up) or ``paper`` (Algorithm 1) planner.
+re-plans from any configuration with the ``fast`` (bottom-up) or ``paper`` (Algorithm 1) planner;
+``team_assign`` gives every idle agent of a team its best ready operation (parallel execution).
 """
 
 from ergosim.planner.agents import Agent, Operation
@@ -10,9 +11,11 @@ from ergosim.planner.bundled import BUNDLED_TASKS, bundled_task, bundled_task_so
 from ergosim.planner.generators import generate_task
 from ergosim.planner.graph import PLANNERS, AndOrGraph
 from ergosim.planner.liaisons import Liaison
+from ergosim.planner.outside import outside_costs, through_costs
 from ergosim.planner.paper_search import SearchBudgetExceeded
 from ergosim.planner.plan import Plan, PlanStep, replan_until_done
 from ergosim.planner.taskfile import load_task, parse_task, task_from_dict
+from ergosim.planner.team import TeamAssignment, TeamStep, team_assign
 
 __all__ = [
     "AndOrGraph",
@@ -32,4 +35,9 @@ __all__ = [
     "BUNDLED_TASKS",
     "replan_until_done",
     "SearchBudgetExceeded",
+    "team_assign",
+    "TeamStep",
+    "TeamAssignment",
+    "outside_costs",
+    "through_costs",
 ]

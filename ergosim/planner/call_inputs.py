@@ -74,23 +74,32 @@ def _key_indices(graph: AndOrGraph, key: tuple[str, str], where: str) -> np.ndar
     return _EMPTY  # a known agent that may not do this action: nothing to override
 
 
+def _number(key: tuple[str, str], value: object, where: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
+        raise ConfigError(f"cost of {key!r} must be a number, got {value!r}", where=where)
+    number = float(value)
+    if not (math.isfinite(number) and 0.0 <= number <= COST_MAX):
+        raise ConfigError(f"cost of {key!r} must be finite, >= 0 and <= {COST_MAX:g}, got {value!r}",
+                          where=where)
+    return number
+
+
 def hyperarc_costs(
     graph: AndOrGraph,
     costs: Mapping[tuple[str, str], float] | None,
     pruned: Iterable[tuple[str, str]],
+    added: Mapping[tuple[str, str], float] | None = None,
 ) -> np.ndarray:
-    """(n_hyperarcs,) costs for this call: fixed costs, overridden by ``costs``, +inf where ``pruned``."""
+    """(n_hyperarcs,) costs for this call: fixed costs, overridden by ``costs``, plus ``added`` (e.g. a time
+    term), +inf where ``pruned``."""
     cost = graph._layout.cost.copy()
     if costs:
         for key, value in costs.items():
-            index = _key_indices(graph, key, "costs")
-            if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
-                raise ConfigError(f"cost of {key!r} must be a number, got {value!r}", where="costs")
-            number = float(value)
-            if not (math.isfinite(number) and 0.0 <= number <= COST_MAX):
-                raise ConfigError(f"cost of {key!r} must be finite, >= 0 and <= {COST_MAX:g}, got {value!r}",
-                                  where="costs")
-            cost[index] = number
+            cost[_key_indices(graph, key, "costs")] = _number(key, value, "costs")
+    if added:
+        for key, value in added.items():
+            index = _key_indices(graph, key, "added")
+            cost[index] = np.minimum(cost[index] + _number(key, value, "added"), COST_MAX)
     for key in pruned:
         cost[_key_indices(graph, key, "pruned")] = np.inf
     return cost

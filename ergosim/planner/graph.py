@@ -70,6 +70,7 @@ class AndOrGraph:
         )
         self._key_hyperarcs = self._index_keys()
         self._paper_cache: object | None = None
+        self._team_cache: object | None = None
         self._check_feasible()
 
     # ----------------------------------------------------------------------------------------- build
@@ -199,6 +200,7 @@ class AndOrGraph:
         pruned: Iterable[tuple[str, str]] = (),
         planner: str = "fast",
         *,
+        added: Mapping[tuple[str, str], float] | None = None,
         time_budget: float | None = None,
         max_states: int | None = None,
     ) -> Plan:
@@ -209,6 +211,8 @@ class AndOrGraph:
             costs: (action label, agent name) -> cost for this call, overriding the fixed cost of every
                 hyper-arc of that action and agent.
             pruned: (action label, agent name) pairs whose hyper-arcs are removed for this call.
+            added: (action label, agent name) -> a cost added to every hyper-arc of that action and agent
+                after ``costs`` (e.g. ``w_time`` × expected duration).
             planner: ``"fast"`` (bottom-up dynamic programming on the graph) or ``"paper"`` (Algorithm 1,
                 search over configurations). Both return an optimal plan.
             time_budget: seconds the ``paper`` search may take before raising
@@ -223,7 +227,7 @@ class AndOrGraph:
         if planner not in PLANNERS:
             raise ConfigError(f"unknown planner {planner!r}; expected one of {PLANNERS}", where="planner")
         config = call_inputs.configuration(self, done)
-        cost = call_inputs.hyperarc_costs(self, costs, pruned)
+        cost = call_inputs.hyperarc_costs(self, costs, pruned, added)
         if planner == "fast":
             hyperarcs = bottom_up.solve(self, config, cost)
         else:

@@ -15,6 +15,7 @@ from ergosim.robot.mjcf import (
 )
 from ergosim.robot.model import compile_spec, load_mjcf, panda_mjcf_text, panda_spec
 from ergosim.robot.skills import Handover, PickPlace, Skill, SkillParams, handover, pick_place
+from ergosim.robot.ssm import SSMParams, allowed_speed, protective_distance, speed_scale
 from ergosim.robot.status import SKILL_PHASES, SkillResult, SkillStatus
 from ergosim.robot.time_scaling import speed_profile, trapezoid
 from ergosim.robot.trajectory import (
@@ -36,6 +37,10 @@ from ergosim.robot.trajectory import (
 from ergosim.robot.urdf import Urdf, read_urdf
 
 __all__ = [
+    "SSMParams",
+    "allowed_speed",
+    "protective_distance",
+    "speed_scale",
     "panda_description_dir",
     "panda_mesh_dir",
     "panda_urdf",

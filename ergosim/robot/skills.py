@@ -391,6 +391,10 @@ class _Carry(Skill):
                           + np.abs(rot[2]) @ m.geom_aabb[g, 3:])
         return float(min(tip + (top - grasp_z) + self.params.contact_margin, self.params.approach))
 
+    def _gripper_time(self) -> float:
+        """Closing on the part and opening again at ``finger_speed`` [s]."""
+        return 2.0 * max(0.0, self._gripper_open - self.width / 2) / self.params.finger_speed
+
     def _carry_waypoints(self, g: Pose, rel_p: np.ndarray, rel_r: np.ndarray, target: Pose,
                          approach_dir: np.ndarray, stand: float,
                          contact: float) -> tuple[list[_Waypoint], Pose]:
@@ -536,6 +540,21 @@ class PickPlace(_Carry):
         self.hold = float(hold)
         self.receive = receive
 
+    def planned_time(self) -> float:
+        """How long the skill would take from the scene as it is now [s]: its planned joint trajectories,
+        the gripper and the pauses (the expected robot duration of the time cost); NaN if unreachable. The
+        scene is not changed."""
+        p = self.params
+        stand = p.insert_approach if self.seat else p.approach
+        self.zone = self.contact_zone()
+        contact = stand if self.seat else self.zone
+        try:
+            reach, carry, _, leave = self._plan_carry(self.target, self.approach_dir, stand, contact)
+        except PathError:
+            return float("nan")
+        steps = len(reach.q) + len(carry.q) + len(leave.q)
+        return steps * self.dt + self._gripper_time() + 0.1 + 3 * p.settle + self.hold
+
     def _program(self) -> Program:
         p = self.params
         # an insertion runs its whole stroke at the contact speed; a place only its last ``contact``
@@ -600,6 +619,19 @@ class Handover(_Carry):
         self.target = Pose(np.asarray(pos, dtype=float), _quat_to_mat(quat))
         self.taken = taken or _worker_holds(part)
         self.hand_error = float("nan")
+
+    def planned_time(self) -> float:
+        """How long the robot's side of the handover would take from the scene as it is now [s]: reach,
+        grasp, carry to the handover pose, let go and return (not the wait for the worker); NaN if
+        unreachable. The scene is not changed."""
+        up = np.array([0.0, 0.0, 1.0])
+        try:
+            self.zone = self.contact_zone()
+            reach, carry, _, leave = self._plan_carry(self.target, up, self.zone, self.zone)
+        except PathError:
+            return float("nan")
+        steps = len(reach.q) + len(carry.q) + len(leave.q)
+        return steps * self.dt + self._gripper_time() + 0.1 + 2 * self.params.settle
 
     def _program(self) -> Program:
         p = self.params

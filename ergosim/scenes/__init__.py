@@ -27,10 +27,15 @@ from ergosim.scenes.registry import (
     scene_path,
 )
 from ergosim.scenes.render import render_workcell
+from ergosim.scenes.separation import Capsules, Separation, SeparationModel, segment_distances
 from ergosim.scenes.shapes import PART_COLLISION
 from ergosim.scenes.workcell import ActionGeometry, SeatResult, Workcell
 
 __all__ = [
+    "Capsules",
+    "Separation",
+    "SeparationModel",
+    "segment_distances",
     "ACTION_KINDS",
     "Action",
     "Box",

@@ -22,6 +22,7 @@ import numpy as np
 
 from ergosim.errors import ConfigError
 from ergosim.human.anthropometry import SEGMENT_SCALES
+from ergosim.robot.ssm import SSMParams
 from ergosim.scenes.cellspec import (
     ACTION_KINDS,
     SHAPES,
@@ -50,7 +51,7 @@ _AXES = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0),
 _TOP = {"name": "str", "description": "str", "timestep": "float", "seat_tolerance": "float",
         "seat_tolerance_deg": "float", "place_tolerance": "float", "carry_height": "float",
         "grasp_tolerance": "float"}
-_TABLES = ("aliases", "worker", "robots", "furniture", "parts", "targets", "actions", "views")
+_TABLES = ("aliases", "worker", "robots", "furniture", "parts", "targets", "actions", "views", "safety")
 _WORKER = {"name": "str", "xy": ("floats", 2), "yaw": "float", "hand": "str", "stature": "float",
            "human_scale": "pairs"}
 _ROBOT = {"model": "str", "base": ("floats", 3), "yaw": "float", "support": "str"}
@@ -71,6 +72,9 @@ _SLOT = {"name": "str", "at": ("floats", 3), "axis": "axis"}
 _TARGET = {"on": "str", "xy": ("floats", 2), "yaw": "float", "part": "str", "pos": ("floats", 3)}
 _ACTION = {"kind": "str", "part": "str", "target": "str", "handover": "str", "turn_time": "float"}
 _VIEW = {"azimuth": "float", "elevation": "float", "distance": "float", "lookat": ("floats", 3)}
+_SAFETY = {"ssm": "str", "human_speed": "float", "measured_speed": "bool", "reaction_time": "float",
+           "stopping_time": "float", "intrusion": "float", "human_uncertainty": "float",
+           "robot_uncertainty": "float"}
 
 
 def read_cell_file(path: str | os.PathLike[str]) -> dict[str, Any]:
@@ -165,6 +169,7 @@ def cell_keys(doc: Mapping[str, Any]) -> list[str]:
     """Every settable dotted path of ``doc`` (existing entries' fields) plus its aliases."""
     keys = [k for k in _TOP if k != "name"]
     keys += [f"worker.{k}" for k in _WORKER]
+    keys += [f"safety.{k}" for k in _SAFETY]
     for section, schema_of in (("robots", lambda _t: _ROBOT), ("parts", lambda _t: _PART),
                                ("targets", lambda _t: _TARGET), ("actions", lambda _t: _ACTION),
                                ("views", lambda _t: _VIEW),
@@ -220,6 +225,8 @@ def _kind_of(doc: Mapping[str, Any], path: str) -> Any:
         return _TOP[parts[0]]
     if parts[0] == "worker":
         return _WORKER[parts[1]]
+    if parts[0] == "safety":
+        return _SAFETY[parts[1]]
     section, name, key = parts[0], parts[1], parts[2]
     if key == "slots":
         return _SLOT[parts[4]]
@@ -287,8 +294,10 @@ def parse_cell(doc: Mapping[str, Any], source: str = "<inline>") -> CellSpec:
                   for name, t in doc.get("views", {}).items())
     if not views:
         views = (View("default", 215.0, -28.0),)
+    safety = SSMParams(**_fields(doc.get("safety", {}), _SAFETY, at("safety")))
+    safety.validate(at("safety"))
     spec = CellSpec(furniture=furniture, parts=parts, targets=targets, actions=actions, worker=worker,
-                    robots=robots, views=views, source=source, **fields)
+                    robots=robots, views=views, source=source, safety=safety, **fields)
     _check(spec, at)
     return spec
 

@@ -15,6 +15,7 @@ from typing import Literal
 import numpy as np
 
 from ergosim.errors import ConfigError
+from ergosim.robot.ssm import SSMParams
 from ergosim.scenes.action_kinds import ACTION_KINDS
 
 __all__ = ["Surface", "Table", "Shelf", "Box", "Slot", "Part", "Target", "Worker", "Robot", "Action", "View",
@@ -300,6 +301,8 @@ class CellSpec:
     carry_height: float = 0.0
     grasp_tolerance: float = 0.02
     description: str = ""
+    safety: SSMParams = SSMParams()
+    """Speed and separation monitoring of the shared space (the ``[safety]`` table)."""
 
     def surfaces(self) -> dict[str, Surface]:
         return {s.name: s for f in self.furniture for s in f.surfaces()}

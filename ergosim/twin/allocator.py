@@ -27,6 +27,8 @@ class Decision:
 
     ``v_now`` (5,) KWear; ``v_hat``: action -> predicted risk (p,) of the index in use; ``costs``: the
     (action, agent) costs the planner got; ``had_choice``: more than one agent could take ``action``.
+    Parallel execution adds ``through``, the cost of the cheapest plan through the chosen hyper-arc, and
+    ``early``: the agent started a handover before the operation's other children exist.
     """
 
     time: float
@@ -39,6 +41,8 @@ class Decision:
     operation: str
     had_choice: bool
     reason: str
+    through: float = float("nan")
+    early: bool = False
 
     def cost_of(self, agent: str) -> float:
         return float(self.costs.get((self.action, agent), np.nan))
@@ -48,11 +52,13 @@ class Allocator:
     """Decides the next (action, agent) for one worker and its robots on an AND/OR graph.
 
     ``mode``: a registered :class:`~ergosim.twin.modes.Mode`; ``index``: the risk index whose prediction
-    sets the human's costs (None for modes without one); ``cost``: Γ, V_th, c_r (eq. 10-11).
+    sets the human's costs (None for modes without one); ``cost``: Γ, V_th, c_r (eq. 10-11); ``w_time`` and
+    ``durations``: the time term, w_time × expected duration per (action, agent) (0: the paper's cost).
     """
 
     def __init__(self, graph: AndOrGraph, mode: Mode, *, index: RiskIndex | None, cost: CostParams | None,
-                 planner: str = "fast") -> None:
+                 planner: str = "fast", w_time: float = 0.0,
+                 durations: Mapping[tuple[str, str], float] | None = None) -> None:
         self.graph = graph
         self.mode = mode
         self.index = index
@@ -67,6 +73,32 @@ class Allocator:
             self.allowed.setdefault(op.action, set()).update(op.agents)
         self.base_pruned = mode.pruned(self.allowed, self.human, self.robots)
         self._action_of = {op.name: op.action for op in graph.operations}
+        self.w_time = float(w_time)
+        """Weight of the time term [cost per s]: w_time × expected duration is added to every hyper-arc."""
+        self.durations = dict(durations or {})
+        """(action, agent) -> expected duration [s] (ergosim.twin.durations)."""
+
+    def action_of(self, operation: str) -> str:
+        return self._action_of[operation]
+
+    def price(self, remaining: list[str]):
+        """What the planner is given for the ``remaining`` actions: (V̂ per action, the costs (eq. 10-11,
+        with the time term where the mode prices the action), the time term of the other hyper-arcs)."""
+        costs: dict[tuple[str, str], float] = {}
+        v_hat: dict[str, np.ndarray] = {}
+        if self.index is not None:
+            v_hat = {a: self.index.predict(a) for a in remaining}
+            costs = risk_costs(self.index, remaining, self.human, list(self.robots), self.cost)
+        added: dict[tuple[str, str], float] = {}
+        if self.w_time > 0:
+            left = set(remaining)
+            for key, seconds in self.durations.items():
+                if key[0] in left:
+                    if key in costs:
+                        costs[key] += self.w_time * seconds
+                    else:
+                        added[key] = self.w_time * seconds
+        return v_hat, costs, added
 
     def decide(self, v_now: np.ndarray, done: list[str], pruned: set[tuple[str, str]], time: float,
                repetition: int) -> Decision | None:
@@ -74,13 +106,10 @@ class Allocator:
         remaining = [a for a in self.graph.actions if a not in done_actions]
         if not remaining:
             return None
-        costs: dict[tuple[str, str], float] = {}
-        v_hat: dict[str, np.ndarray] = {}
-        if self.index is not None:
-            v_hat = {a: self.index.predict(a) for a in remaining}
-            costs = risk_costs(self.index, remaining, self.human, list(self.robots), self.cost)
+        v_hat, costs, added = self.price(remaining)
         cut = self.base_pruned | pruned
-        step = self.graph.plan(done=done, costs=costs, pruned=cut, planner=self.planner).next
+        step = self.graph.plan(done=done, costs=costs, pruned=cut, planner=self.planner,
+                               added=added or None).next
         if step is None:
             return None
         agents = self.allowed[step.action] - {a for (act, a) in cut if act == step.action}

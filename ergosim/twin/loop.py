@@ -63,6 +63,9 @@ class Plant:
         self.on_grasp = None
         self.on_release = None
         self.frame_hook = None
+        self.monitor = None
+        """Called with the plant after every control tick when set (speed and separation monitoring,
+        :class:`~ergosim.twin.ssm_monitor.SafetyMonitor`)."""
         self._zero_g = np.zeros(_M)
         self._posed = None  # the segment whose pose the scene's human shows
         self._row = np.empty(len(TICK_COLUMNS))
@@ -108,6 +111,8 @@ class Plant:
         self.ticks += 1
         if self.ticks % self.tick_every == 0:
             self._ergonomics_tick(seg, k)
+        if self.monitor is not None:
+            self.monitor(self)
 
     def _ergonomics_tick(self, seg, k: int) -> None:
         """Paper eq. 3-5 over one ergonomics period: wear while acting, recovery while resting. A dropout

@@ -18,6 +18,7 @@ _ANGLES = slice(TICK_COLUMNS.index("trunk_flexion"), TICK_COLUMNS.index("wrist_d
 _RULA = slice(TICK_COLUMNS.index("rula_upper_arm"), TICK_COLUMNS.index("rula_legs") + 1)
 _GRAND = TICK_COLUMNS.index("rula_grand")
 _REPETITION_COLOR = (120, 120, 120)  # grey: the frame of the story, not an event in it
+_REFUSAL_COLOR = (170, 90, 200)  # purple: the worker said no
 
 
 def record_run(recorder: TwinRecorder, model, run: SubjectRun, v_th: float, parts: tuple[str, ...],
@@ -42,6 +43,10 @@ def record_run(recorder: TwinRecorder, model, run: SubjectRun, v_th: float, part
         recorder.log_decision(d.time, d.repetition, d.v_now, d.v_hat, d.costs, (d.action, d.agent), d.reason)
     for f in run.failures:  # failed attempts and abandoned repetitions, beside the decisions
         recorder.log_event(f.time, f.repetition, f"{f.status}: {f.message}", level="WARN")
+    for o in run.offers:  # negotiation: the worker's refusals, each before the re-planned decision
+        if o.refused:
+            recorder.log_event(o.time, o.repetition, f"refused: {o.message}", level="INFO",
+                               color=_REFUSAL_COLOR)
 
 
 def _log_repetitions(recorder: TwinRecorder, run: SubjectRun) -> None:

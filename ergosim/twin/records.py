@@ -32,7 +32,8 @@ class Allocation:
     """One attempt at an action: who did it, what the planner saw, when (sim time [s]) and how it ended.
 
     ``status``: ``done`` (the scene saw the action completed), ``failed:<reason>`` (e.g.
-    ``failed:unreachable``; the reason is the robot skill's or the worker's status) or ``pruned`` (a row
+    ``failed:unreachable``; the reason is the robot skill's or the worker's status), ``refused`` (the worker
+    refused the assignment, negotiation; ``t_start`` = ``t_end`` = the decision) or ``pruned`` (a row
     written when a repetition is abandoned, for an action that every agent allowed to do it failed at;
     ``agent`` is then empty and the costs NaN). ``attempt``: 1 for the first attempt at ``action`` in
     this repetition, 2 for the next, whichever agent. ``forced``: the agent's name when the task and the
@@ -155,6 +156,17 @@ class SubjectRun:
     finishes early rests), so every mode covers the same window."""
     human: str = "human"
     """The task's name for the worker (its human agent); every other agent in the records is a robot."""
+    robots: tuple[str, ...] = ()
+    """The task's robot agents."""
+    execution: str = "sequential"
+    """How the team worked: ``sequential`` (one action at a time, the paper's) or ``parallel``."""
+    offers: list = dataclasses.field(default_factory=list)
+    """With negotiation: every action offered to the worker (ergosim.twin.negotiation.Offer), in order."""
+    safety: object | None = None
+    """With speed and separation monitoring: its figures (ergosim.twin.ssm_monitor.SafetyRecord)."""
+    robot_spans: list = dataclasses.field(default_factory=list)
+    """(robot, t_start, t_end, waited) [s] of every robot skill: dispatched, finished (home again), and the
+    time it held a part out waiting for the worker."""
 
     def by_robot(self, agent: str) -> bool:
         """``agent`` (of an allocation or a failure) is one of the robots (not the worker, not empty)."""

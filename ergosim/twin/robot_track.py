@@ -21,7 +21,7 @@ from ergosim.robot.skills import Handover, PickPlace, SkillParams
 from ergosim.robot.status import SkillResult
 from ergosim.robot.trajectory import CONTACT_SPEED, TRANSIT_SPEED, MotionLimits
 
-__all__ = ["RobotTrack"]
+__all__ = ["RobotTrack", "RobotGroup"]
 
 
 class RobotTrack:
@@ -38,7 +38,13 @@ class RobotTrack:
         self.skill = None
         self.result: SkillResult | None = None
         self.results: list[SkillResult] = []
+        self.started: list[float] = []
+        """Sim time [s] each skill of :attr:`results` (and the one running) was dispatched."""
         self.waiting = False
+        self.speed = 1.0
+        """Speed and separation monitoring's factor on the planned motion, in [0, 1]
+        (:mod:`ergosim.robot.ssm`): the skill's clock advances by this much per physics step."""
+        self._clock = 0.0
 
     @property
     def active(self) -> bool:
@@ -62,13 +68,22 @@ class RobotTrack:
 
     def start(self, geom, plant=None) -> None:
         """Dispatch ``geom`` (an :class:`~ergosim.scenes.workcell.ActionGeometry`) to the matching skill."""
-        cell = self.cell
         self.result, self.waiting = None, False
+        self.started.append(plant.time if plant is not None else float("nan"))
+        self.skill = self.skill_for(geom)
+
+    def planned_time(self, geom) -> float:
+        """The robot's expected time for ``geom`` from the scene as it is now [s] (its planned trajectory;
+        NaN if unreachable); nothing moves."""
+        return self.skill_for(geom).planned_time()
+
+    def skill_for(self, geom):
+        """The skill that does ``geom``, not started."""
+        cell = self.cell
         if geom.handover is not None:
             pos, quat = cell.site_pose(geom.handover)
-            self.skill = Handover(cell, geom.part, pos, quat, taken=self._taken(geom.part), kin=self.kin,
-                                  params=self.params, robot=self.name)
-            return
+            return Handover(cell, geom.part, pos, quat, taken=self._taken(geom.part), kin=self.kin,
+                            params=self.params, robot=self.name)
         pos, quat = cell.site_pose(geom.target)
         approach = None
         if geom.seats:
@@ -77,9 +92,9 @@ class RobotTrack:
             # the part slides in along its slot's axis: the seat site's axis that the part's insert axis takes
             axis = "xyz".index(cell.config.part(geom.part).insert_axis)
             approach = rot.reshape(3, 3)[:, axis]
-        self.skill = PickPlace(cell, geom.part, pos, quat, approach=approach, seat=geom.seats,
-                               hold=geom.turn_time, receive=geom.received, kin=self.kin, params=self.params,
-                               robot=self.name)
+        return PickPlace(cell, geom.part, pos, quat, approach=approach, seat=geom.seats,
+                         hold=geom.turn_time, receive=geom.received, kin=self.kin, params=self.params,
+                         robot=self.name)
 
     def _taken(self, part: str):
         def taken(wc) -> bool:
@@ -87,13 +102,46 @@ class RobotTrack:
             return any(wc.is_held(h, part) for h in wc.holders if h not in wc.robots)
         return taken
 
+    @property
+    def moving(self) -> bool:
+        """A skill is running a motion phase (not the gripper, nor holding the part out at a handover)."""
+        return self.active and self.skill.phase in ("transit", "contact", "home")
+
+    def control(self, data: mujoco.MjData) -> None:
+        """Set the controls for the coming physics step. Below full speed (:attr:`speed`) the skill's clock
+        advances by the factor only, and the arm holds its last joint targets in between (a stop at 0)."""
+        if self.result is not None:
+            return
+        if self.speed < 1.0:
+            self._clock += self.speed
+            if self._clock < 1.0:
+                return
+            self._clock -= 1.0
+        res = self.skill.step(data)
+        if res is not None:
+            self.result = res
+            self.results.append(res)
+
     def advance(self, model: mujoco.MjModel, data: mujoco.MjData, n: int) -> None:
         """``n`` physics steps, the skill setting the controls before each."""
-        skill = self.skill
         for _ in range(n):
-            if self.result is None:
-                res = skill.step(data)
-                if res is not None:
-                    self.result = res
-                    self.results.append(res)
+            self.control(data)
+            mujoco.mj_step(model, data)
+
+
+class RobotGroup:
+    """Several robots acting at once (parallel execution): every active skill sets its controls before each
+    physics step, then MuJoCo steps once. Stands in for one :class:`RobotTrack` as the plant's ``robot``."""
+
+    def __init__(self, tracks) -> None:
+        self.tracks = tuple(tracks)
+
+    @property
+    def active(self) -> bool:
+        return any(t.active for t in self.tracks)
+
+    def advance(self, model: mujoco.MjModel, data: mujoco.MjData, n: int) -> None:
+        for _ in range(n):
+            for t in self.tracks:
+                t.control(data)
             mujoco.mj_step(model, data)

@@ -35,9 +35,9 @@ __all__ = ["MANIFEST", "RUN_STATUSES", "OUTPUT_PATTERNS", "RunFolder"]
 MANIFEST = "run.json"
 RUN_STATUSES = ("running", "complete", "abandoned", "interrupted", "failed")
 OUTPUT_PATTERNS = (
-    MANIFEST, "summary.json", "subject_records.json", "allocations.csv", "failures.csv", "ticks.csv",
-    "subjects.csv", "kwear_actions.csv", "kwear_*.png", "kwear_timeline_*.png", "allocation_histogram.png",
-    "kwear_state_*.json",
+    MANIFEST, "summary.json", "subject_records.json", "team.json", "allocations.csv", "failures.csv",
+    "ticks.csv", "subjects.csv", "kwear_actions.csv", "kwear_*.png", "kwear_timeline_*.png",
+    "allocation_histogram.png", "kwear_state_*.json",
 )
 """Names ``ergosim run`` writes into its folder (glob patterns); an earlier run's are removed at start."""
 

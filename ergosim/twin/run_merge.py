@@ -145,6 +145,10 @@ def merge_runs(dirs: Sequence[str | os.PathLike[str]], out: str | os.PathLike[st
     subjects = _joined_range(shards)
     header = shards[0].header
     config, name, seed = header["config"], header["scenario"], header["seed"]
+    if "execution" in config:  # the record of a protocol whose team settings are not the paper's
+        raise ConfigError(f"{shards[0].path} is a team-execution run (execution = {config['execution']!r}); "
+                          "its team.json is computed from the per-tick logs and cannot be merged from shards",
+                          where="ergosim merge")
     folder = RunFolder(out, scenario=name, seed=seed)
     folder.claim(config)
     records = sorted((r for s in shards for r in s.records), key=lambda r: r.subject)

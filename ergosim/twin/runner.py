@@ -17,12 +17,14 @@ from ergosim.posture import KWEAR_JOINTS
 from ergosim.scenes import Workcell, build_cell
 from ergosim.twin.allocator import Allocator
 from ergosim.twin.calibration import SceneCalibration
+from ergosim.twin.durations import human_durations
 from ergosim.twin.loop import Plant
 from ergosim.twin.modes import IndexContext, get_mode, get_risk_index
 from ergosim.twin.records import SubjectRun
 from ergosim.twin.robot_track import RobotTrack
 from ergosim.twin.scenariofile import Scenario
 from ergosim.twin.session import Session
+from ergosim.twin.team_setup import make_session
 from ergosim.twin.worker_track import WorkerTrack
 from ergosim.worker.motion import Worker
 from ergosim.worker.subjects import Subject, make_subjects
@@ -103,7 +105,7 @@ def build_rig(scenario: Scenario, subject: Subject, rng: np.random.Generator, re
 
 def _calibrate(scenario: Scenario, subject: Subject, rng: np.random.Generator):
     """Calibrate ``subject`` in the scenario's workcell; also return the first pass's KWear traces and MTM-1
-    analyses."""
+    analyses, and the mean duration of each action's executions [s] (the worker's expected durations)."""
     cfg = scenario.protocol
     cell = subject_cell(scenario, subject)
     subject = _subject_in(cell, subject)
@@ -116,7 +118,7 @@ def _calibrate(scenario: Scenario, subject: Subject, rng: np.random.Generator):
     for action, ex in cal.passes[0].items():
         v = kwear_trajectory(np.zeros(len(KWEAR_JOINTS)), ex.g, ex.dt, params)
         traces[action] = (np.arange(1, len(v) + 1) * cal.dt_tick, v)
-    return result, traces, dict(cal.mtm)
+    return result, traces, dict(cal.mtm), human_durations(cal.passes)
 
 
 def make_allocator(scenario: Scenario, mode_name: str, rig: Rig, calibration) -> Allocator:
@@ -130,12 +132,13 @@ def make_allocator(scenario: Scenario, mode_name: str, rig: Rig, calibration) ->
 
 
 def _session(scenario: Scenario, index: int, subject: Subject, mode: str, rng: np.random.Generator,
-             calibration, record_bodies: bool = False) -> Session:
+             calibration, record_bodies: bool = False, seed: int = 0,
+             human_seconds: dict[str, float] | None = None) -> Session:
     rig = build_rig(scenario, subject, rng, record_bodies=record_bodies,
                     alphas=calibration.alphas if calibration is not None else None)
     allocator = make_allocator(scenario, mode, rig, calibration)
-    return Session(cfg=scenario.protocol, mode=mode, subject_index=index, worker=rig.worker, plant=rig.plant,
-                   robot=rig.robots, allocator=allocator, rng=rng)
+    return make_session(scenario.protocol, rig=rig, allocator=allocator, mode=mode, subject=index, seed=seed,
+                        rng=rng, human_seconds=human_seconds)
 
 
 def subject_session(scenario: Scenario, index: int, seed: int, mode: str, *, calibrate: bool = True,
@@ -152,9 +155,11 @@ def subject_session(scenario: Scenario, index: int, seed: int, mode: str, *, cal
                           "needs the subject's calibration: calibrate=True", where="subject_session")
     subject = scenario_subject(scenario, index, seed)
     seqs = np.random.SeedSequence([seed, index]).spawn(2)
-    calibration = _calibrate(scenario, subject, np.random.default_rng(seqs[0]))[0] if calibrate else None
+    calibration = seconds = None
+    if calibrate:
+        calibration, _, _, seconds = _calibrate(scenario, subject, np.random.default_rng(seqs[0]))
     return _session(scenario, index, subject, mode, np.random.default_rng(seqs[1]), calibration,
-                    record_bodies=record_bodies)
+                    record_bodies=record_bodies, seed=seed, human_seconds=seconds)
 
 
 def run_subject(scenario: Scenario, index: int, seed: int, modes: tuple[str, ...],
@@ -172,11 +177,11 @@ def run_subject(scenario: Scenario, index: int, seed: int, modes: tuple[str, ...
     subject = scenario_subject(scenario, index, seed)
     slots = tuple(range(len(modes))) if slots is None else tuple(slots)
     seqs = [np.random.SeedSequence([seed, index], spawn_key=(k,)) for k in (0, *(1 + s for s in slots))]
-    calibration, traces, mtm = _calibrate(scenario, subject, np.random.default_rng(seqs[0]))
+    calibration, traces, mtm, seconds = _calibrate(scenario, subject, np.random.default_rng(seqs[0]))
     runs: dict[str, SubjectRun] = {}
     for mode, seq in zip(modes, seqs[1:], strict=True):
         session = _session(scenario, index, subject, mode, np.random.default_rng(seq), calibration,
-                           record_bodies=mode in recorded)
+                           record_bodies=mode in recorded, seed=seed, human_seconds=seconds)
         runs[mode] = session.run(cfg.repetitions)
         runs[mode].calibration_eta = calibration.eta
     return SubjectResult(

@@ -18,7 +18,7 @@ from ergosim.errors import ConfigError
 from ergosim.robot.trajectory import CONTACT_SPEED, TRANSIT_SPEED
 from ergosim.twin.modes import mode_names
 
-__all__ = ["ScenarioConfig", "EE_SPEED_MAX", "ETA_MAX_LIMIT"]
+__all__ = ["ScenarioConfig", "EE_SPEED_MAX", "ETA_MAX_LIMIT", "TEAM_FIELDS"]
 
 EE_SPEED_MAX = 1.7
 """Largest end-effector speed [m/s]: the Franka Emika Panda's Cartesian translation limit (Franka Control
@@ -75,6 +75,25 @@ class ScenarioConfig:
     """Share of women among the synthetic subjects: §7.2's cohort, "2 females and 10 males"."""
     pace: float = 1.0
     """Mean pace of the subjects: 1 = MTM-1 standard performance (ergosim.worker.action_timing)."""
+    execution: Literal["sequential", "parallel"] = "sequential"
+    """How the team works: ``sequential``, one action at a time (the paper's Algorithm 2); ``parallel``,
+    every idle agent starts the best operation ready now (ergosim.twin.team_session)."""
+    w_time: float = 0.0
+    """Weight of the time term [cost per s]: w_time × the expected duration of the (action, agent) is added
+    to its hyper-arcs (ergosim.twin.durations); 0 keeps the paper's cost (eq. 10-11)."""
+    team_margin: float | None = None
+    """Parallel execution: an idle agent does not start an operation whose cheapest plan costs at least this
+    much more than the optimal plan (it leaves it to the agent that plan chose); None: Γ for modes with a
+    threshold penalty, no limit for the others."""
+    negotiation: bool = False
+    """The worker may refuse an assignment (ergosim.worker.refusal); false keeps the paper's worker."""
+    refusal_tolerance: float = 0.65
+    """Mean over subjects of τ, the predicted KWear (most-loaded joint) at which a worker refuses half the
+    time. Assumed."""
+    refusal_tolerance_sd: float = 0.08
+    """Standard deviation of τ between subjects. Assumed."""
+    refusal_slope: float = 0.05
+    """s of the logistic refusal curve, in KWear units. Assumed."""
 
     def validate(self, where: str = "scenario") -> None:
         def need(ok: bool, msg: str) -> None:
@@ -116,8 +135,38 @@ class ScenarioConfig:
         need(0 <= self.female_fraction <= 1, f"female_fraction must be in [0, 1], got {self.female_fraction}")
         need(0.1 <= self.pace <= 2.0, f"pace must be in [0.1, 2] (1 = MTM-1 standard performance), "
              f"got {self.pace}")
+        need(self.execution in ("sequential", "parallel"),
+             f"execution must be sequential or parallel, got {self.execution!r}")
+        need(self.w_time >= 0, f"w_time must be >= 0 (cost per second), got {self.w_time}")
+        need(self.team_margin is None or self.team_margin > 0,
+             f"team_margin must be > 0 or none, got {self.team_margin}")
+        need(0 < self.refusal_tolerance < 1,
+             f"refusal_tolerance must be in (0, 1), got {self.refusal_tolerance}")
+        need(self.refusal_tolerance_sd >= 0, f"refusal_tolerance_sd must be >= 0, got "
+             f"{self.refusal_tolerance_sd}")
+        need(self.refusal_slope > 0, f"refusal_slope must be > 0, got {self.refusal_slope}")
+
+    def record(self) -> dict:
+        """The protocol as the outputs record it (``summary.json`` ``config``, ``run.json``): every field,
+        except the team-execution fields (:data:`TEAM_FIELDS`) while they keep their defaults, so a paper
+        protocol's outputs stay as they were."""
+        out = dict(vars(self))
+        defaults = {f.name: f.default for f in dataclasses.fields(self) if f.name in TEAM_FIELDS}
+        if all(out[k] == v for k, v in defaults.items()):
+            for k in TEAM_FIELDS:
+                out.pop(k)
+        return out
+
+    def team_settings(self) -> dict:
+        """The team-execution fields and their values (``team.json``)."""
+        return {k: getattr(self, k) for k in TEAM_FIELDS}
 
     @property
     def rula_threshold(self) -> float:
         """G_th = fraction × G_max (7.2 with the paper's values)."""
         return self.rula_threshold_fraction * self.rula_g_max
+
+
+TEAM_FIELDS = ("execution", "w_time", "team_margin", "negotiation", "refusal_tolerance",
+               "refusal_tolerance_sd", "refusal_slope")
+"""The protocol fields of team execution (issue 17)."""

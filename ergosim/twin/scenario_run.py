@@ -31,6 +31,7 @@ from ergosim.twin.runner import SubjectResult, run_subject, scenario_subject, su
 from ergosim.twin.scenario import ScenarioConfig
 from ergosim.twin.scenariofile import Scenario
 from ergosim.twin.subject_records import SubjectRecord
+from ergosim.twin.team_metrics import team_document, team_in_summary
 
 __all__ = ["run_scenario", "ScenarioResult", "EXIT_ABANDONED"]
 
@@ -67,8 +68,14 @@ def _write(out: Path, name: str, seed: int, cfg: ScenarioConfig, results: list[S
     # computed from the subject records (subject_records.json), as `ergosim merge` does for shards
     records = [SubjectRecord.of(r) for r in results]
     span = (subjects.start, subjects.stop) if subjects is not None else (0, cfg.subjects)
-    summary = summary_of(name, seed, vars(cfg), records, subject_range=span, complete=complete, status=status)
-    write_record_files(out, name, seed, vars(cfg), records, subject_range=span)
+    config = cfg.record()
+    summary = summary_of(name, seed, config, records, subject_range=span, complete=complete, status=status)
+    write_record_files(out, name, seed, config, records, subject_range=span)
+    modes = {m: [r.runs[m] for r in results if m in r.runs] for m in cfg.modes}
+    team = team_document(cfg, modes)  # team.json; in summary.json too once a team setting is not the paper's
+    write_json(out / "team.json", team)
+    if team_in_summary(cfg, modes):
+        summary["team"] = team
     if final:
         write_ticks(out / "ticks.csv", [run for r in results for run in r.runs.values()])
         _write_states(out, name, seed, cfg, results)
@@ -118,7 +125,7 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
     recording = recorder is not None and recorder.enabled
     record_mode = (record_mode or cfg.modes[0]) if recording else None
     folder = RunFolder(out, scenario=name, seed=seed)
-    folder.claim({k: v for k, v in vars(cfg).items()})
+    folder.claim(cfg.record())
     subjects = subjects if subjects is not None else range(cfg.subjects)
     jobs = max(1, min(jobs or os.cpu_count() or 1, len(subjects)))
     kept = {(record_subject, record_mode)} if record_mode is not None else set()

@@ -46,8 +46,10 @@ class Outcome:
 class Session:
     """Runs ``repetitions`` of the task for one subject in one mode and returns a :class:`SubjectRun`."""
 
+    execution = "sequential"
+
     def __init__(self, *, cfg, mode: str, subject_index: int, worker: Worker, plant: Plant, robot,
-                 allocator: Allocator, rng: np.random.Generator) -> None:
+                 allocator: Allocator, rng: np.random.Generator, negotiator=None) -> None:
         self.cfg = cfg
         self.mode = mode
         self.subject_index = subject_index
@@ -64,6 +66,8 @@ class Session:
         self.failures: list[Failure] = []
         self.outcomes: list[RepetitionOutcome] = []
         self.decisions: list[Decision] = []
+        self.negotiator = negotiator
+        """A :class:`~ergosim.twin.negotiation.Negotiator` when the worker may refuse, else None."""
 
     # -- completion, detected in the scene -----------------------------------------------------------------
     def completed(self, geom) -> bool:
@@ -96,7 +100,9 @@ class Session:
         eq = cell.model.equality(weld_name(self.hand, body)).id
         return InHandTurn(cell.model, eq, pos1, quat1, start, end)
 
-    def _worker_action(self, geom, handover: bool = False) -> Outcome:
+    def _worker_begin(self, geom, handover: bool = False) -> Outcome | tuple[object, np.ndarray]:
+        """Plan the worker's motion for ``geom`` and start it (the grasp and release hooks set): its motion
+        and the collision geoms it carries, or a failed Outcome when the hand cannot reach the part."""
         plant, cell = self.plant, self.cell
         t0 = plant.time
         motion = self.worker.plan(cell, geom, self.rng, action=geom.action, handover=handover)
@@ -127,11 +133,25 @@ class Session:
 
         plant.on_grasp, plant.on_release = on_grasp, on_release
         plant.frame_hook = self._in_hand_turn(motion, geom, grasp_part)
+        return motion, carried
+
+    def _worker_end(self, carried: np.ndarray) -> None:
+        """The worker's motion is over: no more hooks, and what it carried collides again."""
+        plant = self.plant
+        plant.on_grasp = plant.on_release = plant.frame_hook = None
+        self.cell.pass_through(carried, False)
+
+    def _worker_action(self, geom, handover: bool = False) -> Outcome:
+        plant = self.plant
+        t0 = plant.time
+        begun = self._worker_begin(geom, handover)
+        if isinstance(begun, Outcome):
+            return begun
+        motion, carried = begun
         try:
             finished = plant.run_until(lambda: not plant.track.busy, motion.duration + 1.0)
         finally:
-            plant.on_grasp = plant.on_release = plant.frame_hook = None
-            cell.pass_through(carried, False)
+            self._worker_end(carried)
         ok = finished and self._settle(geom, 0.5)
         status = "ok" if ok else ("timeout" if not finished else "not_completed")
         return Outcome(ok, status, t0, plant.time)
@@ -188,20 +208,27 @@ class Session:
         plant, alloc = self.plant, self.allocator
         done: list[str] = []
         pruned: set[tuple[str, str]] = set()
+        declined: set[tuple[str, str]] = set()  # refused by the worker for the decision being made
         attempts: dict[str, int] = {}
         order = 0
         while True:
             try:
-                decision = alloc.decide(plant.v, done, pruned, plant.time, rep)
+                decision = alloc.decide(plant.v, done, pruned | declined, plant.time, rep)
             except InfeasiblePlanError as err:
                 # Every agent that may do a remaining action failed at it: the repetition cannot finish.
                 self._abandon(rep, order, done, pruned, err.what)
                 return False
             if decision is None:
                 return True
+            if self._refused(decision, rep, order, pruned | declined):
+                declined.add((decision.action, decision.agent))
+                order += 1
+                continue
+            declined.clear()
             self.decisions.append(decision)
             out = self.perform(decision.action, decision.agent)
-            attempt = sum(a.action == decision.action for a in self.allocations if a.repetition == rep) + 1
+            attempt = sum(a.action == decision.action and a.status != "refused"
+                          for a in self.allocations if a.repetition == rep) + 1
             if out.ok:
                 done.append(decision.operation)
                 pruned.clear()
@@ -216,15 +243,41 @@ class Session:
                 if (decision.agent != alloc.human or out.status.startswith("unreachable")
                         or attempts[decision.action] >= _HUMAN_ATTEMPTS):
                     pruned.add((decision.action, decision.agent))
-            self.allocations.append(Allocation(
-                subject=self.subject_index, mode=self.mode, repetition=rep, order=order,
-                action=decision.action, agent=decision.agent,
-                human_cost=decision.cost_of(alloc.human), robot_cost=self._robot_cost(decision),
-                t_start=out.t_start, t_end=out.t_end, had_choice=decision.had_choice,
-                status="done" if out.ok else f"failed:{_reason(out.status)}", attempt=attempt,
-                forced=self._forced(decision), allocatable=len(alloc.allowed[decision.action]) > 1,
-            ))
+            self.allocations.append(self._allocation(decision, rep, order, out.t_start, out.t_end,
+                                                     "done" if out.ok else f"failed:{_reason(out.status)}",
+                                                     attempt))
             order += 1
+
+    def _allocation(self, decision: Decision, rep: int, order: int, t_start: float, t_end: float, status: str,
+                    attempt: int) -> Allocation:
+        alloc = self.allocator
+        return Allocation(
+            subject=self.subject_index, mode=self.mode, repetition=rep, order=order,
+            action=decision.action, agent=decision.agent,
+            human_cost=decision.cost_of(alloc.human), robot_cost=self._robot_cost(decision),
+            t_start=t_start, t_end=t_end, had_choice=decision.had_choice, status=status, attempt=attempt,
+            forced=self._forced(decision), allocatable=len(alloc.allowed[decision.action]) > 1,
+        )
+
+    def _refused(self, decision: Decision, rep: int, order: int, cut: set[tuple[str, str]]) -> bool:
+        """Negotiation: the worker, offered ``decision``'s action while another agent could take it, refuses
+        it (a ``refused`` row is written); False without negotiation or when no one else could."""
+        alloc = self.allocator
+        if self.negotiator is None or decision.agent != alloc.human:
+            return False
+        others = alloc.allowed[decision.action] - {alloc.human} - {a for (act, a) in
+                                                                   alloc.base_pruned | cut
+                                                                   if act == decision.action}
+        if not others:
+            return False
+        offer = self.negotiator.offer(self.plant.time, rep, decision.action)
+        if not offer.refused:
+            return False
+        t = self.plant.time
+        attempt = sum(a.action == decision.action and a.status != "refused"
+                      for a in self.allocations if a.repetition == rep) + 1
+        self.allocations.append(self._allocation(decision, rep, order, t, t, "refused", attempt))
+        return True
 
     def run(self, repetitions: int) -> SubjectRun:
         plant, cfg = self.plant, self.cfg
@@ -261,11 +314,22 @@ class Session:
         bodies = None
         if plant.record_bodies:
             bodies = (np.array(plant.body_pos), np.array(plant.body_quat))
+        monitor = getattr(plant, "monitor", None)
+        safety = monitor.record(plant) if monitor is not None else None
+        if safety is not None and safety.end_separation <= 0:
+            self.failures.append(Failure(plant.time, self.subject_index, self.mode, repetitions, "", "",
+                                         "robot_in_worker", f"the run ended with a robot inside the worker "
+                                         f"(separation {safety.end_separation * 100:.1f} cm)"))
         return SubjectRun(
             subject=self.subject_index, mode=self.mode, allocations=self.allocations, ticks=plant.log,
             repetitions_completed=completed, takt_overruns=overruns, dt_tick=plant.dt_tick, v_th=cfg.v_th,
             failures=self.failures, decisions=self.decisions, bodies=bodies, horizon=horizon,
-            outcomes=self.outcomes, human=self.allocator.human,
+            outcomes=self.outcomes, human=self.allocator.human, robots=tuple(self.allocator.robots),
+            execution=self.execution,
+            offers=list(self.negotiator.offers) if self.negotiator is not None else [],
+            safety=safety,
+            robot_spans=[(name, t0, t0 + r.duration, r.phase("wait")) for name, track in self.robots.items()
+                         for t0, r in zip(track.started, track.results)],
         )
 
     # -- what the outputs say about an attempt -------------------------------------------------------------
@@ -297,7 +361,8 @@ class Session:
             agents = alloc.allowed[action]
             if action in done_actions or not all((action, a) in cut for a in agents):
                 continue
-            attempts = sum(a.action == action for a in self.allocations if a.repetition == rep)
+            attempts = sum(a.action == action and a.status != "refused"
+                           for a in self.allocations if a.repetition == rep)
             self.allocations.append(Allocation(
                 subject=self.subject_index, mode=self.mode, repetition=rep, order=order, action=action,
                 agent="", human_cost=np.nan, robot_cost=np.nan, t_start=t, t_end=t, had_choice=False,

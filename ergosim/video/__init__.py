@@ -23,6 +23,7 @@ from ergosim.video.run_video import (
     parse_size,
     write_run_video,
 )
+from ergosim.video.still import first_overlap, render_still
 from ergosim.video.timeline import Event, FrameInfo, RunTimeline
 
 __all__ = [
@@ -45,4 +46,6 @@ __all__ = [
     "quat_to_mat",
     "read_mp4",
     "write_run_video",
+    "render_still",
+    "first_overlap",
 ]

@@ -91,10 +91,16 @@ class Overlay:
         measure = ImageDraw.Draw(Image.new("RGB", (1, 1)))
         action_w = (measure.textlength(chip, font=self.f_bold) + measure.textlength(label, font=self.f_bold)
                     + round(18 * s)) if info.action else 0
+        others = [(a, g, f"{a}  {t}".rstrip()) for a, g, t in info.also]
+        for _, g, text in others:
+            wide = measure.textlength(g.upper(), font=self.f_bold) + measure.textlength(text,
+                                                                                         font=self.f_bold)
+            action_w = max(action_w, wide + round(18 * s))
         header_w = measure.textlength(self.header, font=self.f_small)
         w = max(round(340 * s), round(action_w) + 2 * pad, round(header_w) + 2 * pad)
         lines_h = [self.f_small.size + round(6 * s), self.f_main.size + round(8 * s), self.f_text.size + 4]
-        h = pad * 2 + sum(lines_h)
+        step = self.f_bold.size + round(10 * s)
+        h = pad * 2 + sum(lines_h) + step * len(others)
         shade.rounded_rectangle((x0, y0, x0 + w, y0 + h), radius=round(6 * s), fill=_PANEL)
         x, y = x0 + pad, y0 + pad
         header = self.header
@@ -113,15 +119,17 @@ class Overlay:
         ops.append(main_line)
         y += lines_h[1]
         if info.action:
-            color = agent_color(info.agent)
+            # every attempt in progress, one chip each (several at once in parallel execution)
+            for k, (agent, text) in enumerate([(info.agent, label)] + [(g, t) for _, g, t in others]):
+                color = agent_color(agent)
 
-            def action_line(d, y=y):
-                cw = d.textlength(chip, font=self.f_bold) + round(10 * s)
-                d.rounded_rectangle((x, y - 1, x + cw, y + self.f_bold.size + round(4 * s)),
-                                    radius=round(4 * s), fill=color)
-                d.text((x + round(5 * s), y), chip, font=self.f_bold, fill=(255, 255, 255))
-                d.text((x + cw + round(8 * s), y), label, font=self.f_bold, fill=_TEXT)
-            ops.append(action_line)
+                def action_line(d, y=y + k * step, chip=agent.upper(), text=text, color=color):
+                    cw = d.textlength(chip, font=self.f_bold) + round(10 * s)
+                    d.rounded_rectangle((x, y - 1, x + cw, y + self.f_bold.size + round(4 * s)),
+                                        radius=round(4 * s), fill=color)
+                    d.text((x + round(5 * s), y), chip, font=self.f_bold, fill=(255, 255, 255))
+                    d.text((x + cw + round(8 * s), y), text, font=self.f_bold, fill=_TEXT)
+                ops.append(action_line)
         else:
             ops.append(lambda d, y=y: d.text((x, y), "no action in progress", font=self.f_text, fill=_MUTED))
 

@@ -34,7 +34,8 @@ class Event:
 class FrameInfo:
     """The overlay of one frame. ``time`` [s] of simulated time; ``action``/``agent`` the attempt in
     progress ("" between attempts) and ``action_text`` what it does (e.g. ``insert L``); ``kwear`` (5,) V
-    per joint in KWEAR_JOINTS order; ``events``: the latest decisions and failures, oldest first."""
+    per joint in KWEAR_JOINTS order; ``events``: the latest decisions and failures, oldest first; ``also``:
+    the other attempts in progress at the same time (parallel execution), as (action, agent, text)."""
 
     time: float
     repetition: int
@@ -45,6 +46,7 @@ class FrameInfo:
     kwear: np.ndarray
     v_th: float
     events: tuple[Event, ...]
+    also: tuple[tuple[str, str, str], ...] = ()
 
 
 class RunTimeline:
@@ -110,12 +112,16 @@ class RunTimeline:
         agent = attempt.agent if attempt else ""
         n = int(np.searchsorted(self._event_t, time, side="right"))
         recent = [e for e in self.events[max(0, n - max_events):n] if time - e.time <= hold]
+        also = tuple((a.action, a.agent, self._text(a.action, a.agent)) for a in current[:-1])
+        return FrameInfo(time=float(time), repetition=self._repetition(time, i), repetitions=self.repetitions,
+                         action=action, agent=agent, action_text=self._text(action, agent), kwear=kwear,
+                         v_th=float(self.run.v_th), events=tuple(recent), also=also)
+
+    def _text(self, action: str, agent: str) -> str:
         text = self.action_text.get(action, "")
         if action in self.handovers and self.run.by_robot(agent):
             text += ", handed to the worker"
-        return FrameInfo(time=float(time), repetition=self._repetition(time, i), repetitions=self.repetitions,
-                         action=action, agent=agent, action_text=text, kwear=kwear,
-                         v_th=float(self.run.v_th), events=tuple(recent))
+        return text
 
     def _repetition(self, time: float, tick: int) -> int:
         """The repetition under way at ``time``: the last one started (from the outcomes), else the tick's."""

@@ -13,10 +13,12 @@ from ergosim.worker.ergonomics_tick import (
 from ergosim.worker.ik import IKPrior, IKSolution, UpperBodyIK, default_prior, log_so3
 from ergosim.worker.minimum_jerk import interpolate_keyframes, min_jerk, min_jerk_velocity
 from ergosim.worker.motion import ActionMotion, Phase, SceneView, Worker
+from ergosim.worker.refusal import RefusalModel
 from ergosim.worker.stream import MocapFrames, MocapStream, MotionPlayback
 from ergosim.worker.subjects import Subject, make_subject, make_subjects, rest_angles
 
 __all__ = [
+    "RefusalModel",
     "Recording",
     "load_bvh",
     "read_bvh_text",

@@ -1,0 +1,58 @@
+"""What a run adds to a session beyond the paper's loop, from the protocol and the workcell: the time term of
+the costs, negotiation, speed and separation monitoring, and which session runs (sequential or parallel).
+
+Everything here is off in the paper's protocol (``execution = "sequential"``, ``w_time = 0``, negotiation
+off, the workcell's ``[safety] ssm = "auto"``), so a paper run is the paper's loop exactly.
+"""
+
+from __future__ import annotations
+
+import zlib
+
+import numpy as np
+
+from ergosim.twin.durations import expected_durations
+from ergosim.twin.negotiation import Negotiator
+from ergosim.twin.session import Session
+from ergosim.twin.ssm_monitor import SafetyMonitor
+from ergosim.twin.team_session import TeamSession
+from ergosim.worker.refusal import RefusalModel
+
+__all__ = ["NEGOTIATION_STREAM", "refusal_model", "make_session"]
+
+NEGOTIATION_STREAM = 1017
+"""Entropy word that keeps the negotiation's random stream apart from the subject's others: a subject's
+tolerance comes from ``SeedSequence([seed, subject, 1017])``, the offers of a mode from ``[..., 1017,
+crc32(mode)]``, so negotiation never changes the draws of the motion, the mocap or the calibration."""
+
+
+def refusal_model(cfg, seed: int, subject: int) -> RefusalModel:
+    """Subject ``subject``'s refusal curve under protocol ``cfg`` (the same in every mode)."""
+    rng = np.random.default_rng(np.random.SeedSequence([seed, subject, NEGOTIATION_STREAM]))
+    return RefusalModel.for_subject(rng, mean=cfg.refusal_tolerance, sd=cfg.refusal_tolerance_sd,
+                                    slope=cfg.refusal_slope)
+
+
+def make_session(cfg, *, rig, allocator, mode: str, subject: int, seed: int, rng: np.random.Generator,
+                 human_seconds: dict[str, float] | None = None) -> Session:
+    """The session of one subject in one mode: :class:`TeamSession` for ``execution = "parallel"``, else the
+    sequential :class:`Session`, with the protocol's time term, negotiation and the workcell's monitoring."""
+    plant = rig.plant
+    if cfg.w_time > 0:
+        allocator.w_time = cfg.w_time
+        allocator.durations = expected_durations(rig.cell, rig.robots, allocator.allowed, allocator.human,
+                                                 human_seconds or {})
+    negotiator = None
+    if cfg.negotiation:
+        offers = np.random.default_rng(np.random.SeedSequence([seed, subject, NEGOTIATION_STREAM,
+                                                               zlib.crc32(mode.encode())]))
+        negotiator = Negotiator(refusal_model(cfg, seed, subject), plant.kwear, offers)
+    safety = rig.cell.config.safety
+    if rig.robots and (cfg.execution == "parallel" or safety.ssm == "on"):
+        plant.monitor = SafetyMonitor(rig.cell, rig.robots, safety, scale=safety.enabled(cfg.execution),
+                                      every=plant.tick_every, dt_control=plant.dt_control)
+    kwargs = dict(cfg=cfg, mode=mode, subject_index=subject, worker=rig.worker, plant=plant, robot=rig.robots,
+                  allocator=allocator, rng=rng, negotiator=negotiator)
+    if cfg.execution == "parallel":
+        return TeamSession(margin=cfg.team_margin, **kwargs)
+    return Session(**kwargs)
