@@ -5,7 +5,8 @@
 
 Runs the scenario twice in one mode, with ``execution = "sequential"`` (the paper's loop) and
 ``"parallel"`` (every idle agent gets the best ready operation), the same subjects and seeds, into
-``OUT/sequential`` and ``OUT/parallel``; then prints, from each run's ``team.json`` and ``summary.json``,
+``OUT/sequential`` and ``OUT/parallel``; then prints, from each run's team figures (``team.json``; the
+sequential run's, which writes none, computed the same way from its runs in memory) and ``summary.json``,
 throughput, makespan, takt overruns, idle time, the KWear integral, time above V_th, the separation and the
 monitor's time, with the parallel/sequential ratios, and writes them to ``OUT/team_study.json``.
 ``--negotiation`` adds a third run, parallel with negotiation on. Nothing is tuned: both runs use the
@@ -25,10 +26,12 @@ from scipy.stats import wilcoxon
 from ergosim import api
 from ergosim.atomic import write_json
 from ergosim.errors import ConfigError
+from ergosim.twin.team_metrics import team_document
 
 
-def _figures(out: Path, mode: str) -> dict:
-    team = json.loads((out / "team.json").read_text())["modes"][mode]
+def _figures(scenario, results, out: Path, mode: str) -> dict:
+    runs = [r.runs[mode] for r in results.subjects]
+    team = team_document(scenario.protocol, {mode: runs})["modes"][mode]
     summary = json.loads((out / "summary.json").read_text())["modes"][mode]
     safety = team["safety"] or {}
     return {
@@ -82,8 +85,8 @@ def main(argv: list[str] | None = None) -> int:
             scenario = api.load(a.scenario, base | extra)
             out = a.out / label.replace("+", "_")
             print(f"running {a.scenario} {label}: {a.subjects} subjects x {a.reps} repetitions", flush=True)
-            api.run(scenario, seed=a.seed, out=out, jobs=a.jobs)
-            figures[label] = _figures(out, a.mode)
+            results = api.run(scenario, seed=a.seed, out=out, jobs=a.jobs)
+            figures[label] = _figures(scenario, results, out, a.mode)
     except ConfigError as err:
         print(f"error: {err}", file=sys.stderr)
         return 2

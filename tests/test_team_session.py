@@ -125,12 +125,12 @@ def test_negotiation_refuses_high_wear_actions_and_still_completes(negotiating):
 
 def test_sequential_defaults_keep_the_papers_summary(tmp_path):
     out = tmp_path / "seq"
-    summary, team, _ = _run(out, "kwear-validation", "--reps", "1", "--mode", "hrc")
-    assert "team" not in summary
+    code = main(["run", "kwear-validation", "--subjects", "1", "--quiet", "--seed", "0", "--jobs", "1",
+                 "--out", str(out), "--reps", "1", "--mode", "hrc"])
+    assert code == 0
+    summary = json.loads((out / "summary.json").read_text())
+    assert "team" not in summary and not (out / "team.json").exists()
     assert not {"execution", "w_time", "negotiation"} & set(summary["config"])
-    assert team["settings"]["execution"] == "sequential" and team["modes"]["hrc"]["safety"] is None
-    run = json.loads((out / "run.json").read_text())
-    assert "team.json" in run["files"]
 
 
 @pytest.mark.parametrize("key, value, message", [

@@ -170,7 +170,8 @@ def run(args) -> int:
                 print(f"\nresults: {out.resolve()}")
             raise err from None
     print(summary_text(result.summary, cfg))
-    print(f"\nresults: {out.resolve()} (run.json, summary.json, team.json, allocations.csv, failures.csv, "
+    team = "team.json, " if (out / "team.json").is_file() else ""
+    print(f"\nresults: {out.resolve()} (run.json, summary.json, {team}allocations.csv, failures.csv, "
           "ticks.csv, subjects.csv, kwear_actions.csv, kwear_state_*.json, *.png)")
     if args.rrd:
         print(f"recording: {Path(args.rrd).resolve()}  (open it with: rerun {args.rrd})")

@@ -72,9 +72,9 @@ def _write(out: Path, name: str, seed: int, cfg: ScenarioConfig, results: list[S
     summary = summary_of(name, seed, config, records, subject_range=span, complete=complete, status=status)
     write_record_files(out, name, seed, config, records, subject_range=span)
     modes = {m: [r.runs[m] for r in results if m in r.runs] for m in cfg.modes}
-    team = team_document(cfg, modes)  # team.json; in summary.json too once a team setting is not the paper's
-    write_json(out / "team.json", team)
-    if team_in_summary(cfg, modes):
+    if team_in_summary(cfg, modes):  # a team setting is not the paper's: team.json, and in summary.json
+        team = team_document(cfg, modes)
+        write_json(out / "team.json", team)
         summary["team"] = team
     if final:
         write_ticks(out / "ticks.csv", [run for r in results for run in r.runs.values()])
