@@ -364,19 +364,19 @@ def _axes(doc: Mapping[str, Any], source: str) -> tuple[tuple[Axis, ...], list]:
                               where=where)
         seen[key] = block
 
-    grid = _flat(_table(doc, "grid", source), f"{source}: grid")
-    if grid:
+    def listed(block: str) -> list[tuple[str, list[Any]]]:
+        """The (key, values) of a [grid] or [zip] table, each key claimed."""
         entries = []
-        for key, values in grid.items():
-            claim(key, "grid")
-            entries.append((key, _values(values, f"{source}: grid.{key}")))
+        for key, values in _flat(_table(doc, block, source), f"{source}: {block}").items():
+            claim(key, block)
+            entries.append((key, _values(values, f"{source}: {block}.{key}")))
+        return entries
+
+    entries = listed("grid")
+    if entries:
         blocks.append(("grid", entries, None))
-    zipped = _flat(_table(doc, "zip", source), f"{source}: zip")
-    if zipped:
-        entries = []
-        for key, values in zipped.items():
-            claim(key, "zip")
-            entries.append((key, _values(values, f"{source}: zip.{key}")))
+    entries = listed("zip")
+    if entries:
         lengths = {len(v) for _, v in entries}
         if len(lengths) > 1:
             counts = ", ".join(f"{k} {len(v)}" for k, v in entries)

@@ -53,6 +53,7 @@ class Executor:
         self.stop(cancel=kind is not None)
 
     def imap(self, tasks: Iterable[Task], actions: Sequence[str]) -> Iterator[dict[str, Any]]:
+        """Run ``tasks``; yield each unit's document as it finishes (every executor defines it)."""
         raise NotImplementedError
 
     def stop(self, cancel: bool) -> None:

@@ -26,7 +26,7 @@ from ergosim.sweep.plots import write_sweep_plots
 from ergosim.sweep.stats import cell_statistics
 from ergosim.sweep.tables import allocations_table, results_table, write_parquet
 from ergosim.sweep.units import Unit, plan_units
-from ergosim.twin.interrupt import Interrupted, interrupt_on_signals
+from ergosim.twin.interrupt import interrupt_on_signals, stop_reason
 
 __all__ = ["SweepResult", "run_sweep", "CONSOLIDATE_EVERY", "EXIT_INCOMPLETE"]
 
@@ -143,14 +143,8 @@ def run_sweep(sweep, out: str | Path, *, executor: str = "local", jobs: int | No
                         finally:
                             bar.close()
             status = "incomplete" if _not_complete(docs) else "complete"
-        except Interrupted as err:
-            status, reason = "interrupted", f"stopped by {err}"
-            raise
-        except KeyboardInterrupt:
-            status, reason = "interrupted", "stopped by SIGINT"
-            raise
         except BaseException as err:
-            reason = f"{type(err).__name__}: {err}"
+            status, reason = stop_reason(err)
             raise
         finally:
             with interrupt_on_signals():  # a second Ctrl-C while writing still leaves whole files

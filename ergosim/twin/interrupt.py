@@ -14,7 +14,7 @@ import threading
 from collections.abc import Iterator
 
 __all__ = ["Interrupted", "interrupt_on_signals", "signals_ignored", "quiet_worker", "stop_pool",
-           "STOP_SIGNALS"]
+           "stop_reason", "STOP_SIGNALS"]
 
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
@@ -25,6 +25,16 @@ class Interrupted(KeyboardInterrupt):
     def __init__(self, signum: int) -> None:
         super().__init__(signal.Signals(signum).name)
         self.signum = signum
+
+
+def stop_reason(err: BaseException) -> tuple[str, str]:
+    """(status, reason) of a run that ``err`` stopped, as run.json records it: ``interrupted`` by a signal
+    or Ctrl-C, else ``failed`` with the error."""
+    if isinstance(err, Interrupted):
+        return "interrupted", f"stopped by {err}"
+    if isinstance(err, KeyboardInterrupt):
+        return "interrupted", "stopped by SIGINT"
+    return "failed", f"{type(err).__name__}: {err}"
 
 
 def _raise(signum, _frame) -> None:

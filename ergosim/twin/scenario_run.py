@@ -19,7 +19,13 @@ from pathlib import Path
 
 from ergosim.atomic import write_json
 from ergosim.plugins import extension_modules, import_extensions
-from ergosim.twin.interrupt import Interrupted, interrupt_on_signals, quiet_worker, signals_ignored, stop_pool
+from ergosim.twin.interrupt import (
+    interrupt_on_signals,
+    quiet_worker,
+    signals_ignored,
+    stop_pool,
+    stop_reason,
+)
 from ergosim.twin.kwear_state import state_document
 from ergosim.twin.plots import write_plots
 from ergosim.twin.progress import Progress
@@ -161,14 +167,8 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
                     raise
                 pool.shutdown()
         status = "complete"
-    except Interrupted as err:
-        status, reason = "interrupted", f"stopped by {err}"
-        raise
-    except KeyboardInterrupt:
-        status, reason = "interrupted", "stopped by SIGINT"
-        raise
     except BaseException as err:
-        reason = f"{type(err).__name__}: {err}"
+        status, reason = stop_reason(err)
         raise
     finally:
         bar.close()
