@@ -1,19 +1,21 @@
-"""The Panda: MJCF built from example-robot-data's URDF, pinocchio kinematics, IK, trajectories, skills."""
+"""Robots: the :class:`RobotModel` contract and its registry (the Panda and the UR5 from
+example-robot-data), MJCF built from the URDF, pinocchio kinematics, IK, trajectories, skills."""
 
-from ergosim.robot.assets import panda_description_dir, panda_mesh_dir, panda_urdf
+from ergosim.robot.assets import erd_file, erd_share, resolve_url
 from ergosim.robot.ik import IKResult, pose_error, solve_ik
-from ergosim.robot.kinematics import TCP_FRAME, PandaKinematics
-from ergosim.robot.mjcf import (
-    ARM_ACTUATORS,
-    ARM_JOINTS,
-    FINGER_JOINTS,
-    GRIPPER_ACTUATOR,
-    HOME_QPOS,
-    TCP_SITE,
-    PandaGains,
-    panda_xml,
+from ergosim.robot.kinematics import ArmKinematics, PandaKinematics
+from ergosim.robot.mjcf import ArmActuation, GripperActuation, MjcfRecipe, RobotFiles, robot_mjcf
+from ergosim.robot.model import MODELS_DIR, compile_spec, load_mjcf, model_dir, robot_files, robot_spec
+from ergosim.robot.panda import PANDA
+from ergosim.robot.robot_model import (
+    AddedFrame,
+    Gripper,
+    Mount,
+    RobotModel,
+    get_robot,
+    register_robot,
+    robot_names,
 )
-from ergosim.robot.model import compile_spec, load_mjcf, panda_mjcf_text, panda_spec
 from ergosim.robot.skills import Handover, PickPlace, Skill, SkillParams, handover, pick_place
 from ergosim.robot.ssm import SSMParams, allowed_speed, protective_distance, speed_scale
 from ergosim.robot.status import SKILL_PHASES, SkillResult, SkillStatus
@@ -34,33 +36,42 @@ from ergosim.robot.trajectory import (
     segment_trajectory,
     transit_trajectory,
 )
+from ergosim.robot.ur5 import UR5
 from ergosim.robot.urdf import Urdf, read_urdf
 
 __all__ = [
+    "RobotModel",
+    "Gripper",
+    "Mount",
+    "AddedFrame",
+    "register_robot",
+    "robot_names",
+    "get_robot",
+    "PANDA",
+    "UR5",
     "SSMParams",
     "allowed_speed",
     "protective_distance",
     "speed_scale",
-    "panda_description_dir",
-    "panda_mesh_dir",
-    "panda_urdf",
+    "erd_share",
+    "erd_file",
+    "resolve_url",
     "IKResult",
     "pose_error",
     "solve_ik",
-    "TCP_FRAME",
+    "ArmKinematics",
     "PandaKinematics",
-    "ARM_ACTUATORS",
-    "ARM_JOINTS",
-    "FINGER_JOINTS",
-    "GRIPPER_ACTUATOR",
-    "HOME_QPOS",
-    "TCP_SITE",
-    "PandaGains",
-    "panda_xml",
+    "ArmActuation",
+    "GripperActuation",
+    "MjcfRecipe",
+    "RobotFiles",
+    "robot_mjcf",
+    "MODELS_DIR",
+    "model_dir",
+    "robot_files",
+    "robot_spec",
     "compile_spec",
     "load_mjcf",
-    "panda_mjcf_text",
-    "panda_spec",
     "Handover",
     "PickPlace",
     "Skill",

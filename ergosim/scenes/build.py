@@ -18,12 +18,12 @@ from ergosim.human.mjcf import HOME_POSTURE
 from ergosim.human.mocap import add_mocap_segments
 from ergosim.human.model import HAND_SITES, ROOT_BODY, HumanModel, human_spec
 from ergosim.robot.handle import PandaHandle
-from ergosim.robot.mjcf import HOME_QPOS
-from ergosim.robot.model import compile_spec, panda_spec
+from ergosim.robot.model import compile_spec, robot_spec
+from ergosim.robot.panda import HOME_QPOS, PANDA
 from ergosim.scenes.cellspec import Surface, Worker
 
 __all__ = ["weld_name", "seat_name", "receive_name", "yaw_quat", "new_spec", "add_table", "add_box",
-           "attach_panda", "attach_human", "add_welds", "human_hand_bodies", "finish"]
+           "attach_panda", "attach_human", "add_welds", "human_hand_bodies", "finish", "quiet_attach"]
 
 WOOD = (0.72, 0.6, 0.45, 1.0)
 METAL = (0.45, 0.47, 0.5, 1.0)
@@ -48,7 +48,7 @@ def yaw_quat(yaw_deg: float) -> list[float]:
 
 
 @contextlib.contextmanager
-def _quiet_attach() -> Iterator[None]:
+def quiet_attach() -> Iterator[None]:
     """Attach with an empty prefix (names must stay canonical) without MuJoCo's save-related warning."""
     previous = mujoco.get_mju_user_warning()
     other: list[str] = []
@@ -121,9 +121,11 @@ def attach_panda(spec: mujoco.MjSpec, base, yaw: float, timestep: float,
         half = (z - support_height) / 2
         add_box(spec, f"{prefix}robot_pedestal", (x - 0.04, y, support_height + half), (0.13, 0.11, half))
     frame = spec.worldbody.add_frame(name=f"{prefix}robot_base", pos=list(base), quat=yaw_quat(yaw))
-    panda = panda_spec()
+    panda = robot_spec(PANDA)
+    for key, blob in panda.assets.items():
+        spec.assets[key] = blob
     panda.option.timestep = timestep  # the scene's options win; equal values avoid a conflict notice
-    with _quiet_attach():
+    with quiet_attach():
         frame.attach_body(panda.body("panda_link0"), prefix, "")
     # the first link turns just above its mount: its hull would only ever graze the support it stands on
     spec.add_exclude(bodyname1="world", bodyname2=f"{prefix}panda_link1")
@@ -141,7 +143,7 @@ def attach_human(spec: mujoco.MjSpec, worker: Worker) -> mujoco.MjModel:
     kin_spec.compiler.degree = False
     frame = kin_spec.worldbody.add_frame(name="worker", pos=[*worker.xy, 0.0], quat=yaw_quat(worker.yaw))
     human = human_spec(worker.stature, dict(worker.human_scale), keyframe=None)
-    with _quiet_attach():
+    with quiet_attach():
         frame.attach_body(human.body(ROOT_BODY), "", "")
         kin = compile_spec(kin_spec, where="human")
     data = mujoco.MjData(kin)
@@ -179,7 +181,8 @@ def finish(spec: mujoco.MjSpec, where: str, robots: tuple[tuple[str, str], ...] 
     its fingers open; parts laid out; the human's mocap segments keep their home posture) and compile."""
     for key in list(spec.keys):
         spec.delete(key)
-    with _quiet_attach():
+    key = spec.add_key(name="home")  # filled in the compiled model: one compile, not two
+    with quiet_attach():
         model = compile_spec(spec, where=where)
     qpos = model.qpos0.copy()
     ctrl = np.zeros(model.nu)
@@ -190,7 +193,7 @@ def finish(spec: mujoco.MjSpec, where: str, robots: tuple[tuple[str, str], ...] 
             qpos[adr] = model.jnt_range[j][1]
         ctrl[robot.arm_ctrl] = HOME_QPOS
         ctrl[robot.grip_ctrl] = robot.gripper_open(model)
-    spec.add_key(name="home", qpos=qpos.tolist(), ctrl=ctrl.tolist())
-    with _quiet_attach():
-        return compile_spec(spec, where=where)
+    model.key_qpos[0], model.key_ctrl[0] = qpos, ctrl
+    key.qpos, key.ctrl = qpos.tolist(), ctrl.tolist()  # the spec (and a scene exported from it) says the same
+    return model
 

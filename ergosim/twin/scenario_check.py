@@ -153,7 +153,7 @@ def _robot_reaches(cell, robot: str, kin, solve_ik, point: np.ndarray) -> bool:
     r = r.reshape(3, 3)
     local = r.T @ (np.asarray(point) + np.array([0, 0, 0.05]) - base_p)
     down = r.T @ np.diag([1.0, -1.0, -1.0])
-    from ergosim.robot.mjcf import HOME_QPOS  # noqa: PLC0415
+    from ergosim.robot.panda import HOME_QPOS  # noqa: PLC0415
 
     res = solve_ik(kin, local, down, np.asarray(HOME_QPOS, dtype=float), restarts=4,
                    rng=np.random.default_rng(0))
