@@ -18,7 +18,7 @@ from ergosim.errors import ErgosimError
 
 __all__ = ["main", "build_parser"]
 
-COMMANDS = ("plan", "run", "scenarios", "replay", "render", "plot", "fidelity", "sweep", "compare",
+COMMANDS = ("plan", "run", "scenarios", "replay", "render", "export", "plot", "fidelity", "sweep", "compare",
             "merge")
 
 

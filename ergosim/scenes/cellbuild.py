@@ -18,7 +18,7 @@ from ergosim.scenes.clearance import check_clearance
 from ergosim.scenes.shapes import add_part_body
 from ergosim.scenes.workcell import ActionGeometry, Workcell
 
-__all__ = ["build_cell", "seat_site", "action_geometry"]
+__all__ = ["build_cell", "cell_mjspec", "seat_site", "action_geometry"]
 
 
 def seat_site(slot_host: str, part: str) -> str:
@@ -72,8 +72,9 @@ def _part_pose(spec: CellSpec, part) -> tuple[list[float], list[float]]:
     return list(part.pos), (rpy_quat(part.rpy) if part.rpy is not None else yaw_quat(part.yaw))
 
 
-def build_cell(spec: CellSpec) -> Workcell:
-    """The compiled :class:`Workcell` of ``spec`` (reset to its ``home`` keyframe)."""
+def _assemble(spec: CellSpec) -> tuple[mujoco.MjSpec, dict[str, str], mujoco.MjModel, tuple]:
+    """The scene's MjSpec before its keyframe, the holders' hand bodies, the human's articulated model and
+    the robots' (name, prefix) pairs."""
     m = build.new_spec(spec.name, spec.timestep)
     _furniture(m, spec)
     surfaces = spec.surfaces()
@@ -112,6 +113,19 @@ def build_cell(spec: CellSpec) -> Workcell:
         m.add_exclude(bodyname1=host, bodyname2=part)
     received = list(dict.fromkeys(a.part for a in spec.actions if action_kind(a.kind).received))
     build.add_welds(m, hands, [p.name for p in spec.parts], seats, received)
+    return m, hands, human, prefixes
+
+
+def cell_mjspec(spec: CellSpec) -> mujoco.MjSpec:
+    """The MjSpec of ``spec``'s scene, keyframe included (compiled once on the way), e.g. to save as MJCF."""
+    m, _, _, prefixes = _assemble(spec)
+    build.finish(m, where=spec.source, robots=prefixes)
+    return m
+
+
+def build_cell(spec: CellSpec) -> Workcell:
+    """The compiled :class:`Workcell` of ``spec`` (reset to its ``home`` keyframe)."""
+    m, hands, human, prefixes = _assemble(spec)
     model = build.finish(m, where=spec.source, robots=prefixes)
     cell = Workcell(spec, model, action_geometry(spec), hands, human=human)
     check_clearance(spec, cell.model, cell.data)  # nothing starts inside furniture (at the home keyframe)
