@@ -23,6 +23,7 @@ from ergosim.ergonomics.cost import (
     rula_baseline_agent,
     rula_baseline_params,
 )
+from ergosim.ergonomics.features import FEATURES, Feature, feature
 from ergosim.ergonomics.kwear import V_CEIL, KWearParams, alpha_of, kwear_step, kwear_trajectory, predict
 from ergosim.ergonomics.param_store import ParamStore, WorkerParams
 from ergosim.ergonomics.reba import (
@@ -40,7 +41,14 @@ from ergosim.ergonomics.reba import (
 )
 from ergosim.ergonomics.reba_parts import COUPLINGS, coupling_score, grip_coupling, load_score
 from ergosim.ergonomics.reba_tables import risk_level
-from ergosim.ergonomics.risk_index import KWearIndex, RiskIndex, StaticRulaIndex
+from ergosim.ergonomics.risk_index import (
+    REBA_G_HIGH,
+    REBA_G_MAX,
+    KWearIndex,
+    RiskIndex,
+    StaticRebaIndex,
+    StaticRulaIndex,
+)
 from ergosim.ergonomics.rula import (
     RULA_INPUTS,
     RULA_PARTS,
@@ -107,6 +115,12 @@ __all__ = [
     "RiskIndex",
     "KWearIndex",
     "StaticRulaIndex",
+    "StaticRebaIndex",
+    "REBA_G_MAX",
+    "REBA_G_HIGH",
+    "Feature",
+    "FEATURES",
+    "feature",
     "CostParams",
     "CostRangeWarning",
     "G_MAX_PAPER",
