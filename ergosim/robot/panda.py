@@ -60,6 +60,7 @@ PANDA = register_robot(RobotModel(
     max_rotation=2.5,  # rad/s, libfranka kMaxRotationalVelocity
     max_rotation_accel=25.0,  # rad/s^2, libfranka kMaxRotationalAcceleration
     mount=Mount(link="panda_link1", pedestal=(0.13, 0.11), offset_x=-0.04),  # pedestal assumed
+    tuck=(0.0, -1.7, 0.0, -3.0, 0.0, 1.5, 0.785398),  # forearm folded back over the base, hand down
     source="example-robot-data robots/panda_description (from frankaemika/franka_ros franka_description)",
     licence="Apache-2.0",
 ))

@@ -67,7 +67,9 @@ class RobotModel:
     added when the URDF lacks them; ``base``/``hand``: the base body and the body a held part is welded
     to; ``gripper``; ``payload`` [kg]; ``reach`` [m] from the base's first joint axis to the TCP;
     ``max_speed`` [m/s], ``max_rotation`` [rad/s], ``max_rotation_accel`` [rad/s^2] the controller's
-    Cartesian limits; ``mount``; ``source`` and ``licence`` for the model's README.
+    Cartesian limits; ``mount``; ``tuck`` (n,) [rad] a compact posture, the arm folded over its base with
+    the tool down, towards which a park pose may fold (:mod:`ergosim.scenes.park`); ``source`` and
+    ``licence`` for the model's README.
     """
 
     name: str
@@ -84,6 +86,7 @@ class RobotModel:
     max_rotation: float
     max_rotation_accel: float
     mount: Mount
+    tuck: tuple[float, ...] = ()
     add_frames: tuple[AddedFrame, ...] = ()
     edit_urdf: Callable[[Urdf], Urdf] | None = field(default=None, compare=False)
     source: str = ""

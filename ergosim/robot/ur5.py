@@ -112,6 +112,7 @@ UR5 = register_robot(RobotModel(
     max_rotation=math.pi,  # rad/s, the joints' 180 deg/s (UR5 datasheet) about one axis
     max_rotation_accel=25.0,  # rad/s^2, assumed (as the Panda's)
     mount=Mount(link="shoulder_link", pedestal=(0.10, 0.10), offset_x=0.0),  # pedestal assumed (base 149 mm)
+    tuck=(0.0, -2.2, 2.0, -1.370796, -1.570796, 0.0),  # upper arm back, forearm over the base, tool down
     add_frames=(AddedFrame(TCP_FRAME, "tool0", (0.0, 0.0, TCP_DEPTH),
                            (math.cos(math.pi / 4), 0.0, 0.0, math.sin(math.pi / 4))),),
     edit_urdf=edit_urdf,
