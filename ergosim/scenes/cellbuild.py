@@ -11,6 +11,7 @@ from __future__ import annotations
 import mujoco
 
 from ergosim.robot.handle import robot_prefix
+from ergosim.robot.robot_model import get_robot
 from ergosim.scenes import build
 from ergosim.scenes.action_kinds import action_kind
 from ergosim.scenes.cellspec import Box, CellSpec, Shelf, Table, quat_axis_to, rpy_quat, yaw_quat
@@ -79,11 +80,11 @@ def _assemble(spec: CellSpec) -> tuple[mujoco.MjSpec, dict[str, str], mujoco.MjM
     _furniture(m, spec)
     surfaces = spec.surfaces()
     hands: dict[str, str] = {}
-    prefixes = tuple((r.name, robot_prefix(i, r.name)) for i, r in enumerate(spec.robots))
-    for r, (_, prefix) in zip(spec.robots, prefixes, strict=True):
+    prefixes = tuple((r.name, robot_prefix(i, r.name), get_robot(r.model)) for i, r in enumerate(spec.robots))
+    for r, (_, prefix, kind) in zip(spec.robots, prefixes, strict=True):
         support = surfaces[r.support].height if r.support is not None else None
-        build.attach_panda(m, r.base, r.yaw, spec.timestep, support_height=support, prefix=prefix)
-        hands[r.name] = f"{prefix}panda_hand"
+        build.attach_robot(m, kind, r.base, r.yaw, spec.timestep, support_height=support, prefix=prefix)
+        hands[r.name] = f"{prefix}{kind.hand}"
     human = build.attach_human(m, spec.worker)
     hands.update(build.human_hand_bodies(m))
     bodies = {}

@@ -22,6 +22,7 @@ import numpy as np
 
 from ergosim.errors import ConfigError
 from ergosim.human.anthropometry import SEGMENT_SCALES
+from ergosim.robot.robot_model import robot_names
 from ergosim.robot.ssm import SSMParams
 from ergosim.scenes.cellspec import (
     ACTION_KINDS,
@@ -421,7 +422,8 @@ def _check(spec: CellSpec, at) -> None:
     _check_overlaps(spec, at)
     for r in spec.robots:
         entry = f"robots.{r.name}"
-        need(r.model == "panda", f"{entry}.model", f"unknown robot model {r.model!r}; models: panda")
+        need(r.model in robot_names(), f"{entry}.model",
+             f"unknown robot model {r.model!r}; models: {', '.join(robot_names())}")
         need(r.support is None or r.support in surfaces, f"{entry}.support",
              f"unknown surface {r.support!r}; surfaces: {', '.join(surfaces)}")
         if r.support is not None:

@@ -15,7 +15,8 @@ import numpy as np
 
 from ergosim.errors import ConfigError
 from ergosim.human.mocap import MocapHuman
-from ergosim.robot.handle import PandaHandle, robot_prefix
+from ergosim.robot.handle import RobotHandle, robot_prefix
+from ergosim.robot.robot_model import get_robot
 from ergosim.scenes.action_kinds import ActionKind, action_kind
 from ergosim.scenes.build import receive_name, seat_name, weld_name
 from ergosim.scenes.cellspec import CellSpec
@@ -85,7 +86,7 @@ def _quat_angle_deg(q: np.ndarray) -> float:
 
 class Workcell:
     """One scene instance built from ``spec`` (:class:`~ergosim.scenes.cellspec.CellSpec`, also
-    :attr:`config`). ``hand_bodies``: holder name -> body that holds (``panda_hand``, human hands).
+    :attr:`config`). ``hand_bodies``: holder name -> body that holds (a robot's hand, the human's hands).
 
     ``human``: the articulated human model returned by :func:`~ergosim.scenes.build.attach_human`; the scene's
     mocap human is then driven through :attr:`human` (a :class:`~ergosim.human.mocap.MocapHuman`).
@@ -103,8 +104,8 @@ class Workcell:
         self.home_key = model.keyframe("home").id
         self.parts = tuple(p.name for p in spec.parts)
         self.robots = tuple(r.name for r in spec.robots)
-        self.robot_handles = {r.name: PandaHandle.find(model, r.name, robot_prefix(i, r.name))
-                              for i, r in enumerate(spec.robots)}
+        self.robot_handles = {r.name: RobotHandle.find(model, r.name, robot_prefix(i, r.name),
+                                                        get_robot(r.model)) for i, r in enumerate(spec.robots)}
         self._grip = {p.name: p.grip_width for p in spec.parts}
         self._body = {p: model.body(p).id for p in self.parts}
         self._hand = {h: model.body(b).id for h, b in hand_bodies.items()}
@@ -134,11 +135,11 @@ class Workcell:
         return self.data.xpos[i].copy(), self.data.xquat[i].copy()
 
     def robot_base_pose(self, robot: str | None = None) -> tuple[np.ndarray, np.ndarray]:
-        """Pose of ``panda_link0`` of ``robot`` (default: the cell's first robot)."""
+        """Pose of the base body of ``robot`` (default: the cell's first robot)."""
         return self.body_pose(self.robot(robot).base)
 
-    def robot(self, name: str | None = None) -> PandaHandle:
-        """The :class:`~ergosim.robot.handle.PandaHandle` of robot ``name`` (default: the first)."""
+    def robot(self, name: str | None = None) -> RobotHandle:
+        """The :class:`~ergosim.robot.handle.RobotHandle` of robot ``name`` (default: the first)."""
         if not self.robot_handles:
             raise ConfigError("the workcell has no robot", where=self.name)
         if name is None:
