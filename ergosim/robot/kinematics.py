@@ -42,10 +42,12 @@ class ArmKinematics:
     """Forward kinematics and frame Jacobians of one robot's arm.
 
     ``lower``/``upper`` (n,) joint limits [rad]; ``velocity`` (n,) [rad/s] and ``effort`` (n,) [N m]
-    limits; ``home`` (n,) the ready configuration [rad]; ``robot`` the :class:`RobotModel`.
+    limits; ``home`` (n,) the configuration the robot parks in [rad]: ``home`` if given (a workcell's park
+    pose, :meth:`~ergosim.scenes.workcell.Workcell.robot_home`), else the model's ready pose; ``robot`` the
+    :class:`RobotModel`.
     """
 
-    def __init__(self, robot: RobotModel) -> None:
+    def __init__(self, robot: RobotModel, home=None) -> None:
         self.robot = robot
         self.model = _build(robot)
         self.data = self.model.createData()
@@ -54,7 +56,7 @@ class ArmKinematics:
         self.upper = self.model.upperPositionLimit.copy()
         self.velocity = self.model.velocityLimit.copy()
         self.effort = self.model.effortLimit.copy()
-        self.home = np.array(robot.home)
+        self.home = np.array(robot.home if home is None else home, dtype=float)
 
     @property
     def nq(self) -> int:

@@ -104,8 +104,9 @@ class Workcell:
         self.home_key = model.keyframe("home").id
         self.parts = tuple(p.name for p in spec.parts)
         self.robots = tuple(r.name for r in spec.robots)
-        self.robot_handles = {r.name: RobotHandle.find(model, r.name, robot_prefix(i, r.name),
-                                                        get_robot(r.model)) for i, r in enumerate(spec.robots)}
+        self.robot_handles = {
+            r.name: RobotHandle.find(model, r.name, robot_prefix(i, r.name), get_robot(r.model))
+            for i, r in enumerate(spec.robots)}
         self._grip = {p.name: p.grip_width for p in spec.parts}
         self._body = {p: model.body(p).id for p in self.parts}
         self._hand = {h: model.body(b).id for h, b in hand_bodies.items()}
@@ -137,6 +138,11 @@ class Workcell:
     def robot_base_pose(self, robot: str | None = None) -> tuple[np.ndarray, np.ndarray]:
         """Pose of the base body of ``robot`` (default: the cell's first robot)."""
         return self.body_pose(self.robot(robot).base)
+
+    def robot_home(self, name: str | None = None) -> np.ndarray:
+        """(n,) the arm configuration [rad] robot ``name`` (default: the first) parks in: its joints in the
+        ``home`` keyframe, the pose chosen for the worker (:mod:`ergosim.scenes.park`)."""
+        return self.model.key_qpos[self.home_key][self.robot(name).arm_qpos].copy()
 
     def robot(self, name: str | None = None) -> RobotHandle:
         """The :class:`~ergosim.robot.handle.RobotHandle` of robot ``name`` (default: the first)."""
