@@ -13,8 +13,10 @@ from hypothesis import strategies as st
 
 from ergosim.ergonomics.reba import (
     REBA_INPUTS,
+    REBA_PARTS,
     RebaThresholds,
     reba,
+    reba_frames,
     reba_part_scores,
     reba_table_a,
     reba_table_b,
@@ -266,3 +268,20 @@ def test_vectorised_equals_per_frame(frames, coupling, activity, load):
 
 def test_inputs_listed():
     assert set(REBA_INPUTS) == set(ANGLE_NAMES)
+
+
+def test_frames_match_reba_per_frame():
+    rng = np.random.default_rng(0)
+    a = rng.uniform(-60, 120, (40, 14))
+    a[5, 3] = np.nan
+    knees = rng.uniform(0, 90, (40, 1))
+    load = rng.uniform(0, 12, 40)
+    parts, score, g = reba_frames(a, load, 1, knees=knees)
+    for k in range(40):
+        p = dict(zip(ANGLE_NAMES, a[k].tolist()), knee_flexion=float(knees[k, 0]))
+        one = reba(p, load_kg=float(load[k]), coupling=1)
+        if k == 5:
+            assert np.isnan(parts[k]).all() and np.isnan(score[k]) and np.isnan(g[k]).all()
+            continue
+        assert parts[k].tolist() == [getattr(one, n) for n in REBA_PARTS] and score[k] == one.score
+        assert g[k].tolist() == reba_part_scores(one).tolist()

@@ -38,6 +38,7 @@ from ergosim.ergonomics.reba_parts import (
     wrist_score,
 )
 from ergosim.ergonomics.reba_tables import TABLE_A, TABLE_B, TABLE_C, risk_level
+from ergosim.posture import ANGLE_NAMES, array_to_posture
 
 __all__ = [
     "REBA_INPUTS",
@@ -51,6 +52,7 @@ __all__ = [
     "reba_table_b",
     "reba_table_c",
     "reba_part_scores",
+    "reba_frames",
 ]
 
 REBA_INPUTS: tuple[str, ...] = (
@@ -198,3 +200,23 @@ def reba(posture: Mapping, *, load_kg=0.0, shock=False, coupling=0, activity=0, 
         f[~valid] = np.nan
         out.append(float(f) if not shape else f)
     return RebaResult(*out, valid=bool(valid) if not shape else valid.copy())
+
+
+def reba_frames(angles, load_kg=0.0, coupling=0, knees=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """REBA of n measured frames in one vectorised call, for a risk index's feature stream.
+
+    angles: (n, >= 14) [deg], the first 14 columns in :data:`ergosim.posture.ANGLE_NAMES` order; knees:
+    optional (n, k) knee flexion angles [deg] (:data:`KNEE_ANGLES`); load_kg, coupling: scalars or (n,).
+    Returns part scores (n, 6) in :data:`REBA_PARTS` order, REBA scores (n,) and the KWear inputs (n, 6)
+    in :data:`REBA_JOINTS` order; a row with a NaN angle is NaN in all three.
+    """
+    a = np.asarray(angles, dtype=float)
+    posture = array_to_posture(a[:, :len(ANGLE_NAMES)])
+    if knees is not None:
+        k = np.asarray(knees, dtype=float).reshape(len(a), -1)
+        posture.update({name: k[:, i] for i, name in enumerate(KNEE_ANGLES[:k.shape[1]])})
+    res = reba(posture, load_kg=np.broadcast_to(load_kg, (len(a),)),
+               coupling=np.broadcast_to(coupling, (len(a),)))
+    parts = np.stack([np.asarray(getattr(res, p), dtype=float) for p in REBA_PARTS], axis=-1)
+    return parts.reshape(len(a), len(REBA_PARTS)), np.asarray(res.score, dtype=float).reshape(len(a)), \
+        reba_part_scores(res).reshape(len(a), len(REBA_JOINTS))
