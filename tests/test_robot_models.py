@@ -9,7 +9,7 @@ import pytest
 
 from ergosim.robot import PANDA, UR5, robot_files, robot_names, robot_spec
 from ergosim.robot.assets import erd_file
-from ergosim.robot.model import model_dir
+from ergosim.robot.model import model_dir, scene_xml
 from ergosim.robot.urdf import read_urdf
 
 ROBOTS = [PANDA, UR5]
@@ -44,8 +44,9 @@ def test_committed_files_are_the_generator_output(robot):
     assert on_disk == set(files.assets)
     for name, blob in files.assets.items():
         assert (folder / "assets" / name).read_bytes() == blob, name
-    for doc in ("README.md", "scene.xml"):
-        assert (folder / doc).is_file()
+    assert (folder / "scene.xml").read_text() == scene_xml(robot.name)
+    readme = (folder / "README.md").read_text()
+    assert "## Source" in readme and "Licence" in readme and "## Derivation" in readme
 
 
 def test_menagerie_layout(robot):

@@ -21,7 +21,8 @@ from ergosim.robot.mjcf import RobotFiles, robot_mjcf
 from ergosim.robot.robot_model import RobotModel, get_robot
 from ergosim.robot.urdf import read_urdf
 
-__all__ = ["MODELS_DIR", "model_dir", "robot_files", "robot_spec", "write_model", "compile_spec", "load_mjcf"]
+__all__ = ["MODELS_DIR", "model_dir", "robot_files", "robot_spec", "scene_xml", "write_model", "compile_spec",
+           "load_mjcf"]
 
 MODELS_DIR = Path(__file__).resolve().parents[2] / "models"
 """``models/`` of the source tree (mujoco_menagerie layout)."""
@@ -60,9 +61,39 @@ def robot_spec(robot: RobotModel) -> mujoco.MjSpec:
     return spec
 
 
+_SCENE = """<mujoco model="{name} scene">
+  <include file="{name}.xml"/>
+
+  <statistic center="0.3 0 0.4" extent="1"/>
+
+  <visual>
+    <headlight diffuse="0.6 0.6 0.6" ambient="0.3 0.3 0.3" specular="0 0 0"/>
+    <global azimuth="120" elevation="-20"/>
+  </visual>
+
+  <asset>
+    <texture type="skybox" builtin="gradient" rgb1="0.3 0.5 0.7" rgb2="0 0 0" width="512" height="3072"/>
+    <texture type="2d" name="groundplane" builtin="checker" mark="edge" rgb1="0.2 0.3 0.4" rgb2="0.1 0.2 0.3"
+      markrgb="0.8 0.8 0.8" width="300" height="300"/>
+    <material name="groundplane" texture="groundplane" texuniform="true" texrepeat="5 5" reflectance="0.2"/>
+  </asset>
+
+  <worldbody>
+    <light pos="0 0 1.5" dir="0 0 -1" directional="true"/>
+    <geom name="floor" size="0 0 0.05" type="plane" material="groundplane"/>
+  </worldbody>
+</mujoco>
+"""
+
+
+def scene_xml(name: str) -> str:
+    """``models/<name>/scene.xml``: the robot on a floor, with a light and a sky (menagerie's scene)."""
+    return _SCENE.format(name=name)
+
+
 def write_model(name: str, directory: Path | None = None) -> Path:
-    """Write robot ``name``'s MJCF and assets to ``directory`` (default ``models/<name>/``), removing asset
-    files the model no longer names; returns the MJCF path."""
+    """Write robot ``name``'s MJCF, its ``scene.xml`` and its assets to ``directory`` (default
+    ``models/<name>/``), removing asset files the model no longer names; returns the MJCF path."""
     robot = get_robot(name)
     directory = model_dir(robot) if directory is None else Path(directory)
     files = robot_files(robot)
@@ -74,6 +105,7 @@ def write_model(name: str, directory: Path | None = None) -> Path:
             stale.unlink()
     path = directory / f"{name}.xml"
     write_text(path, files.xml)
+    write_text(directory / "scene.xml", scene_xml(name))
     return path
 
 
