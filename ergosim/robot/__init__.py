@@ -22,8 +22,6 @@ from ergosim.robot.status import SKILL_PHASES, SkillResult, SkillStatus
 from ergosim.robot.time_scaling import speed_profile, trapezoid
 from ergosim.robot.trajectory import (
     CONTACT_SPEED,
-    PANDA_MAX_ROTATION,
-    PANDA_MAX_ROTATION_ACCEL,
     SEGMENT_KINDS,
     TRANSIT_SPEED,
     BaseFrame,
@@ -82,8 +80,6 @@ __all__ = [
     "SkillResult",
     "SkillStatus",
     "CONTACT_SPEED",
-    "PANDA_MAX_ROTATION",
-    "PANDA_MAX_ROTATION_ACCEL",
     "SEGMENT_KINDS",
     "TRANSIT_SPEED",
     "SpeedLimit",

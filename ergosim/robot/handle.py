@@ -1,8 +1,8 @@
 """One robot of a compiled scene, found by name: the small compiled object skills and scenes pass around.
 
-A workcell may hold several robots. The first keeps the names of its model's MJCF (``panda_link0``,
+A workcell may hold several robots. The first keeps the names of its model's MJCF (``base_link``,
 ``shoulder_pan_joint``, ...); every further one is attached with the prefix ``<robot name>.``
-(``robot2.panda_link0``). :class:`RobotHandle` resolves one robot's joints, actuators, TCP site and bodies
+(``robot2.base_link``). :class:`RobotHandle` resolves one robot's joints, actuators, TCP site and bodies
 once, from its :class:`~ergosim.robot.robot_model.RobotModel`, so no code indexes ``ctrl`` or ``qpos`` by
 position.
 """
@@ -16,7 +16,7 @@ import numpy as np
 
 from ergosim.robot.robot_model import RobotModel
 
-__all__ = ["RobotHandle", "PandaHandle", "robot_prefix"]
+__all__ = ["RobotHandle", "robot_prefix"]
 
 
 def robot_prefix(index: int, name: str) -> str:
@@ -42,15 +42,12 @@ class RobotHandle:
     base: str
     hand: str
     fingers: tuple[str, str]
-    robot: RobotModel | None = None
+    robot: RobotModel
 
     @classmethod
-    def find(cls, model: mujoco.MjModel, name: str, prefix: str = "",
-             robot: RobotModel | None = None) -> RobotHandle:
-        if robot is None:
-            from ergosim.robot.panda import PANDA  # noqa: PLC0415
-
-            robot = PANDA
+    def find(cls, model: mujoco.MjModel, name: str, prefix: str, robot: RobotModel) -> RobotHandle:
+        """The handle of the robot of model ``robot`` called ``name`` in ``model``, its names prefixed by
+        ``prefix``."""
         arm = [model.actuator(prefix + a).id for a in robot.arm_actuators]
         if arm != list(range(arm[0], arm[0] + len(arm))):
             raise AssertionError(f"the arm actuators of {name!r} are not contiguous: {arm}")
@@ -71,6 +68,3 @@ class RobotHandle:
         """The widest opening per finger [m] (the gripper actuator's upper control limit)."""
         return float(model.actuator_ctrlrange[self.grip_ctrl, 1])
 
-
-PandaHandle = RobotHandle
-"""The former name (a cell's robots were all Pandas)."""
