@@ -362,11 +362,14 @@ def test_eta_max_is_bounded(capsys, tmp_path):
     _one_line_error(capsys, code, "eta_max must be <= 50")
 
 
-# -- 10. ee_speed is bounded by the Panda's Cartesian limit --------------------------------------------
-def test_ee_speed_is_bounded_by_the_panda(capsys, tmp_path):
+# -- 10. ee_speed is bounded by the robot's Cartesian limit --------------------------------------------
+def test_ee_speed_is_bounded_by_the_robot(capsys, tmp_path):
     code = main(["run", "kwear-validation", "--quiet", "--out", str(tmp_path / "n"),
-                 "--set", "ee_speed=100"])
-    _one_line_error(capsys, code, "ee_speed must be in (0, 1.7] m/s")
+                 "--set", "ee_speed=100", "--set", "transit_speed=100"])
+    _one_line_error(capsys, code, "ee_speed must be at most 1.7 m/s (the panda's Cartesian limit")
+    code = main(["run", "kwear-validation", "--quiet", "--out", str(tmp_path / "n"),
+                 "--set", "transit_speed=1.5", "--set", "scene.robots.robot.model=ur5"])
+    _one_line_error(capsys, code, "transit_speed must be at most 1 m/s (the ur5's Cartesian limit")
     from ergosim.overrides import apply_overrides  # noqa: PLC0415
     from ergosim.twin.scenariofile import scenario_config  # noqa: PLC0415
 

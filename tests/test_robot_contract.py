@@ -3,13 +3,17 @@ Panda-specific name outside ergosim/robot/panda* (the Panda's module) and models
 
 from __future__ import annotations
 
+import ast
+import re
 from pathlib import Path
 
 import pytest
 
 from ergosim.errors import ConfigError
-from ergosim.robot import PANDA, UR5, get_robot, robot_names
+from ergosim.robot import get_robot, robot_names
 from ergosim.robot.capability import refusal
+from ergosim.robot.panda import PANDA
+from ergosim.robot.ur5 import UR5
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -30,3 +34,41 @@ def test_refusals_name_the_limit():
                                                        "its payload is 3 kg")
     assert refusal(UR5, "a1", "block", 0.05, 3.5) is None
     assert "out of its reach" in refusal(PANDA, "a5", "J", 0.03, 0.2, reachable=False)
+
+
+def _names_and_strings(tree: ast.AST):
+    """(line, text) of every identifier and every string literal that is not a docstring."""
+    docstrings = {id(node.value) for node in ast.walk(tree)
+                  if isinstance(node, ast.Expr) and isinstance(node.value, ast.Constant)}
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Name):
+            yield node.lineno, node.id
+        elif isinstance(node, ast.Attribute):
+            yield node.lineno, node.attr
+        elif isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef | ast.ClassDef):
+            yield node.lineno, node.name
+        elif isinstance(node, ast.arg | ast.keyword) and node.arg:
+            yield node.lineno, node.arg
+        elif isinstance(node, ast.alias):
+            yield node.lineno, f"{node.name} {node.asname or ''}"
+        elif isinstance(node, ast.ImportFrom) and node.module:
+            yield node.lineno, node.module
+        elif isinstance(node, ast.Constant) and isinstance(node.value, str) and id(node) not in docstrings:
+            yield node.lineno, node.value
+
+
+def test_no_panda_specific_name_outside_the_pandas_module():
+    """Every robot comes through the contract: no identifier or string of the package and its scripts names
+    the Panda outside ergosim/robot/panda*.py (its record), but for the import in ergosim/robot/__init__.py
+    that registers it; its data is models/panda/. (Prose may cite it, e.g. where another robot's assumed
+    figure comes from.)"""
+    hits = []
+    for path in sorted([*(ROOT / "ergosim").rglob("*.py"), *(ROOT / "scripts").glob("*.py")]):
+        rel = path.relative_to(ROOT).as_posix()
+        if re.fullmatch(r"ergosim/robot/panda\w*\.py", rel):
+            continue
+        for line, text in _names_and_strings(ast.parse(path.read_text())):
+            registers = rel == "ergosim/robot/__init__.py" and text == "panda _first"
+            if "panda" in text.lower() and not registers:
+                hits.append(f"{rel}:{line}: {text}")
+    assert not hits, "\n".join(hits)

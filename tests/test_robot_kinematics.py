@@ -5,9 +5,11 @@ import mujoco
 import numpy as np
 import pytest
 
-from ergosim.robot import PANDA, UR5, ArmKinematics, robot_spec
+from ergosim.robot import ArmKinematics, robot_spec
 from ergosim.robot.assets import erd_file
 from ergosim.robot.ik import solve_ik
+from ergosim.robot.panda import PANDA
+from ergosim.robot.ur5 import UR5
 from ergosim.robot.urdf import read_urdf
 
 

@@ -7,9 +7,11 @@ import mujoco
 import numpy as np
 import pytest
 
-from ergosim.robot import PANDA, UR5, robot_files, robot_names, robot_spec
+from ergosim.robot import robot_files, robot_names, robot_spec
 from ergosim.robot.assets import erd_file
 from ergosim.robot.model import model_dir, scene_xml
+from ergosim.robot.panda import PANDA
+from ergosim.robot.ur5 import UR5
 from ergosim.robot.urdf import read_urdf
 
 ROBOTS = [PANDA, UR5]

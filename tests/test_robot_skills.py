@@ -5,7 +5,8 @@ import numpy as np
 import pytest
 
 import ergosim.robot as robot_pkg
-from ergosim.robot import PandaKinematics
+from ergosim.robot import ArmKinematics
+from ergosim.robot.panda import PANDA
 from ergosim.robot.skills import SkillParams, handover, pick_place
 from ergosim.robot.status import SkillStatus
 from ergosim.robot.trajectory import CONTACT_SPEED, TRANSIT_SPEED, MotionLimits, Pose, segment_trajectory
@@ -14,7 +15,7 @@ from ergosim.scenes import build_scene
 
 @pytest.fixture(scope="module")
 def kin():
-    return PandaKinematics()
+    return ArmKinematics(PANDA)
 
 
 @pytest.fixture(scope="module")
@@ -69,7 +70,7 @@ def test_pick_place_puts_j_in_the_assembly_area(kwear, kin):
     assert wc.holder_of("J") is None  # released: it rests on the bench by itself
     mujoco.mj_step(wc.model, wc.data)
     assert abs(wc.data.qvel[wc.model.joint("J").dofadr[0] + 2]) < 0.05
-    np.testing.assert_allclose(wc.data.qpos[:7], robot_pkg.PANDA.home, atol=0.01)  # back home
+    np.testing.assert_allclose(wc.data.qpos[:7], PANDA.home, atol=0.01)  # back home
     assert wc.data.ctrl[7] == pytest.approx(0.04)  # gripper open again
     # Timing (the physics since the two-speed robot): four contact-critical zones of ~3.5 cm at 0.05 m/s,
     # the rest a transit at 0.25 m/s; at 0.05 m/s throughout this pick-and-place took 73 s.
@@ -136,7 +137,7 @@ def test_handover_brings_each_profile_to_the_handover_pose(multi, kin, profile):
     # the worker holds it now; the robot let go and went home
     assert wc.holder_of(profile) == "human_right"
     assert np.linalg.norm(wc.body_pose(profile)[0] - pos) < 0.01
-    np.testing.assert_allclose(wc.data.qpos[:7], robot_pkg.PANDA.home, atol=0.01)
+    np.testing.assert_allclose(wc.data.qpos[:7], PANDA.home, atol=0.01)
     wc.release("human_right", profile)
 
 

@@ -1,17 +1,20 @@
-"""Robots: the :class:`RobotModel` contract and its registry (the Panda and the UR5 from
-example-robot-data), MJCF built from the URDF, pinocchio kinematics, IK, trajectories, skills."""
+"""Robots: the :class:`RobotModel` contract and its registry (the bundled robots come from
+example-robot-data, each in its own module), MJCF built from the URDF, pinocchio kinematics, IK,
+trajectories, skills."""
 
+from ergosim.robot import panda as _first  # noqa: F401  (register the bundled robots)
+from ergosim.robot import ur5 as _second  # noqa: F401
 from ergosim.robot.assets import erd_file, erd_share, resolve_url
 from ergosim.robot.ik import IKResult, pose_error, solve_ik
-from ergosim.robot.kinematics import ArmKinematics, PandaKinematics
+from ergosim.robot.kinematics import ArmKinematics
 from ergosim.robot.mjcf import ArmActuation, GripperActuation, MjcfRecipe, RobotFiles, robot_mjcf
 from ergosim.robot.model import MODELS_DIR, compile_spec, load_mjcf, model_dir, robot_files, robot_spec
-from ergosim.robot.panda import PANDA
 from ergosim.robot.robot_model import (
     AddedFrame,
     Gripper,
     Mount,
     RobotModel,
+    default_robot,
     get_robot,
     register_robot,
     robot_names,
@@ -34,7 +37,6 @@ from ergosim.robot.trajectory import (
     segment_trajectory,
     transit_trajectory,
 )
-from ergosim.robot.ur5 import UR5
 from ergosim.robot.urdf import Urdf, read_urdf
 
 __all__ = [
@@ -45,8 +47,7 @@ __all__ = [
     "register_robot",
     "robot_names",
     "get_robot",
-    "PANDA",
-    "UR5",
+    "default_robot",
     "SSMParams",
     "allowed_speed",
     "protective_distance",
@@ -58,7 +59,6 @@ __all__ = [
     "pose_error",
     "solve_ik",
     "ArmKinematics",
-    "PandaKinematics",
     "ArmActuation",
     "GripperActuation",
     "MjcfRecipe",

@@ -40,7 +40,7 @@ def erd_share() -> Path:
 
 
 def erd_file(relative: str) -> Path:
-    """``relative`` (e.g. ``robots/panda_description/urdf/panda.urdf``) under :func:`erd_share`; ModelError
+    """``relative`` (e.g. ``robots/ur_description/urdf/ur5_gripper.urdf``) under :func:`erd_share`; ModelError
     if the installed package has no such file."""
     path = erd_share() / relative
     if not path.is_file():

@@ -15,7 +15,7 @@ from ergosim.errors import ModelError
 from ergosim.robot.assets import erd_file
 from ergosim.robot.robot_model import RobotModel
 
-__all__ = ["ArmKinematics", "PandaKinematics"]
+__all__ = ["ArmKinematics"]
 
 
 def _build(robot: RobotModel) -> pin.Model:
@@ -84,12 +84,3 @@ class ArmKinematics:
     def within_limits(self, q: np.ndarray, tol: float = 1e-9) -> bool:
         q = np.asarray(q)
         return bool(np.all(q >= self.lower - tol) and np.all(q <= self.upper + tol))
-
-
-class PandaKinematics(ArmKinematics):
-    """:class:`ArmKinematics` of the Panda (the bundled default robot)."""
-
-    def __init__(self) -> None:
-        from ergosim.robot.panda import PANDA  # noqa: PLC0415
-
-        super().__init__(PANDA)

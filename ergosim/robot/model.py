@@ -131,7 +131,7 @@ def _parse(path: Path) -> mujoco.MjSpec:
 
 
 def load_mjcf(path: str | Path) -> mujoco.MjModel:
-    """Compile an MJCF file of ``models/`` (e.g. ``models/panda/scene.xml``), as plain MuJoCo would."""
+    """Compile an MJCF file of ``models/`` (e.g. ``models/<robot>/scene.xml``), as plain MuJoCo would."""
     path = Path(path)
     try:
         return mujoco.MjModel.from_xml_path(str(path))

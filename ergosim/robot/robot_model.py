@@ -22,7 +22,8 @@ from ergosim.plugins import note_caller
 from ergosim.robot.mjcf import MjcfRecipe
 from ergosim.robot.urdf import Urdf
 
-__all__ = ["Gripper", "Mount", "AddedFrame", "RobotModel", "register_robot", "robot_names", "get_robot"]
+__all__ = ["Gripper", "Mount", "AddedFrame", "RobotModel", "register_robot", "robot_names", "get_robot",
+           "default_robot"]
 
 
 @dataclass(frozen=True)
@@ -129,6 +130,12 @@ def register_robot(model: RobotModel) -> RobotModel:
 
 def robot_names() -> tuple[str, ...]:
     return tuple(_ROBOTS)
+
+
+def default_robot() -> str:
+    """The model a workcell's robot is when its file names none: the first registered (``ergosim.robot``
+    registers its bundled robots first, in the order it imports them)."""
+    return next(iter(_ROBOTS))
 
 
 def get_robot(name: str) -> RobotModel:

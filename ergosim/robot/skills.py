@@ -18,6 +18,7 @@ its result.
 
 from __future__ import annotations
 
+import dataclasses
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Generator, Iterator
 from dataclasses import dataclass
@@ -27,7 +28,7 @@ import mujoco
 import numpy as np
 
 from ergosim.robot.ik import solve_ik
-from ergosim.robot.kinematics import PandaKinematics
+from ergosim.robot.kinematics import ArmKinematics
 from ergosim.robot.status import SKILL_PHASES, SkillResult, SkillStatus
 from ergosim.robot.trajectory import (
     BaseFrame,
@@ -123,14 +124,14 @@ class Skill(ABC):
 
     name = "skill"
 
-    def __init__(self, workcell, part: str, kin: PandaKinematics | None = None,
+    def __init__(self, workcell, part: str, kin: ArmKinematics | None = None,
                  params: SkillParams = SkillParams(), robot: str | None = None) -> None:
         self.wc = workcell
         handle = workcell.robot(robot)
         self.holder = handle.name  # the holder name of the robot (its task agent)
         self.part = part
-        self.kin = kin or PandaKinematics()
-        self.params = params
+        self.kin = kin or ArmKinematics(handle.robot, workcell.robot_home(handle.name))
+        self.params = dataclasses.replace(params, limits=params.limits.for_robot(handle.robot))
         m = workcell.model
         self.dt = float(m.opt.timestep)
         self._arm_q = handle.arm_qpos
@@ -361,7 +362,7 @@ class Skill(ABC):
 class _Carry(Skill):
     """Shared program: reach, grasp, carry to a TCP pose; subclasses decide what happens there."""
 
-    def __init__(self, workcell, part: str, kin: PandaKinematics | None = None,
+    def __init__(self, workcell, part: str, kin: ArmKinematics | None = None,
                  params: SkillParams = SkillParams(), robot: str | None = None) -> None:
         super().__init__(workcell, part, kin, params, robot)
         self.grasp_site = workcell.grasp_site(part)
@@ -530,7 +531,7 @@ class PickPlace(_Carry):
     name = "pick_place"
 
     def __init__(self, workcell, part: str, target_pos, target_quat, *, approach=None, seat: bool = False,
-                 hold: float = 0.0, receive: bool = False, kin: PandaKinematics | None = None,
+                 hold: float = 0.0, receive: bool = False, kin: ArmKinematics | None = None,
                  params: SkillParams = SkillParams(), robot: str | None = None) -> None:
         super().__init__(workcell, part, kin, params, robot)
         self.target = Pose(np.asarray(target_pos, dtype=float), _quat_to_mat(target_quat))
@@ -613,7 +614,7 @@ class Handover(_Carry):
     name = "handover"
 
     def __init__(self, workcell, part: str, pos, quat, taken: Callable[[object], bool] | None = None, *,
-                 kin: PandaKinematics | None = None, params: SkillParams = SkillParams(),
+                 kin: ArmKinematics | None = None, params: SkillParams = SkillParams(),
                  robot: str | None = None) -> None:
         super().__init__(workcell, part, kin, params, robot)
         self.target = Pose(np.asarray(pos, dtype=float), _quat_to_mat(quat))

@@ -22,7 +22,7 @@ import numpy as np
 
 from ergosim.errors import ConfigError
 from ergosim.human.anthropometry import SEGMENT_SCALES
-from ergosim.robot.robot_model import robot_names
+from ergosim.robot.robot_model import default_robot, robot_names
 from ergosim.robot.ssm import SSMParams
 from ergosim.scenes.cellspec import (
     ACTION_KINDS,
@@ -286,7 +286,8 @@ def parse_cell(doc: Mapping[str, Any], source: str = "<inline>") -> CellSpec:
                       for name, t in doc.get("furniture", {}).items())
     parts = tuple(_part(name, t, at(f"parts.{name}")) for name, t in doc.get("parts", {}).items())
     targets = tuple(_target(name, t, at(f"targets.{name}")) for name, t in doc.get("targets", {}).items())
-    robots = tuple(Robot(name=name, **_fields(t, _ROBOT, at(f"robots.{name}"), required=("base",)))
+    robots = tuple(Robot(name=name, **{"model": default_robot(),
+                                       **_fields(t, _ROBOT, at(f"robots.{name}"), required=("base",))})
                    for name, t in doc.get("robots", {}).items())
     actions = tuple(Action(label=name, **_fields(t, _ACTION, at(f"actions.{name}"),
                                                  required=("kind", "part", "target")))

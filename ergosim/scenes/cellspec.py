@@ -244,12 +244,13 @@ class Worker:
 
 @dataclasses.dataclass(frozen=True)
 class Robot:
-    """A robot named like its task agent: ``model`` a registered robot model (``panda``, ``ur5``:
-    :func:`ergosim.robot.robot_names`), its base body at ``base`` (3,) [m] turned by ``yaw`` [deg]; a
-    pedestal fills the gap down to surface ``support``."""
+    """A robot named like its task agent: ``model`` a registered robot model
+    (:func:`ergosim.robot.robot_names`; a file that names none gets :func:`ergosim.robot.default_robot`),
+    its base body at ``base`` (3,) [m] turned by ``yaw`` [deg]; a pedestal fills the gap down to surface
+    ``support``."""
 
     name: str
-    model: str = "panda"
+    model: str
     base: tuple[float, float, float] = (0.0, 0.0, 0.0)
     yaw: float = 0.0
     support: str | None = None

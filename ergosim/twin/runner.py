@@ -22,6 +22,7 @@ from ergosim.twin.loop import Plant
 from ergosim.twin.modes import IndexContext, get_mode, get_risk_index
 from ergosim.twin.records import SubjectRun
 from ergosim.twin.robot_track import RobotTrack
+from ergosim.twin.scenario_check import robot_refusals
 from ergosim.twin.scenariofile import Scenario
 from ergosim.twin.session import Session
 from ergosim.twin.team_setup import make_session
@@ -62,6 +63,9 @@ class Rig:
     worker: Worker
     robots: dict[str, RobotTrack]
     graph: object
+    refused: frozenset = frozenset()
+    """(action, robot) pairs a robot of the cell cannot do
+    (:func:`~ergosim.twin.scenario_check.robot_refusals`)."""
 
     @property
     def robot(self) -> RobotTrack | None:
@@ -100,7 +104,9 @@ def build_rig(scenario: Scenario, subject: Subject, rng: np.random.Generator, re
     robots = {r: RobotTrack(cell, ee_speed=cfg.ee_speed, transit_speed=cfg.transit_speed, robot=r)
               for r in cell.robots}
     plant.robot = next(iter(robots.values()), None)
-    return Rig(cell, plant, track.worker, robots, scenario.task())
+    graph = scenario.task()
+    refused = frozenset(robot_refusals(graph, cell)) if robots else frozenset()
+    return Rig(cell, plant, track.worker, robots, graph, refused)
 
 
 def _calibrate(scenario: Scenario, subject: Subject, rng: np.random.Generator):
@@ -128,7 +134,7 @@ def make_allocator(scenario: Scenario, mode_name: str, rig: Rig, calibration) ->
     index = cost = None
     if mode.risk_index is not None:
         index, cost = get_risk_index(mode.risk_index).build(IndexContext(cfg, rig.plant.kwear, calibration))
-    return Allocator(rig.graph, mode, index=index, cost=cost, planner=cfg.planner)
+    return Allocator(rig.graph, mode, index=index, cost=cost, planner=cfg.planner, refused=rig.refused)
 
 
 def _session(scenario: Scenario, index: int, subject: Subject, mode: str, rng: np.random.Generator,

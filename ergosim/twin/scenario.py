@@ -18,11 +18,7 @@ from ergosim.errors import ConfigError
 from ergosim.robot.trajectory import CONTACT_SPEED, TRANSIT_SPEED
 from ergosim.twin.modes import mode_names
 
-__all__ = ["ScenarioConfig", "EE_SPEED_MAX", "ETA_MAX_LIMIT", "TEAM_FIELDS"]
-
-EE_SPEED_MAX = 1.7
-"""Largest end-effector speed [m/s]: the Franka Emika Panda's Cartesian translation limit (Franka Control
-Interface documentation, "Limits for Panda": 1.7 m/s)."""
+__all__ = ["ScenarioConfig", "ETA_MAX_LIMIT", "TEAM_FIELDS"]
 ETA_MAX_LIMIT = 50
 """Largest eta_max (calibration passes, §5). Assumed: each pass performs every action once (about a minute
 of simulated work), so 50 passes already take minutes of wall time per subject; the paper's η stay < 10."""
@@ -60,7 +56,8 @@ class ScenarioConfig:
     retreat, the final approach into the handover pose); the paper's conservative 0.05 m/s (§7.2)."""
     transit_speed: float = TRANSIT_SPEED
     """Robot TCP speed of free-space transits [m/s]; ISO 10218-1:2011 §5.6 reduced speed (<= 0.25 m/s),
-    at least ee_speed and at most EE_SPEED_MAX."""
+    at least ee_speed and at most the cell's robots' Cartesian limit (``RobotModel.max_speed``, checked with
+    the workcell)."""
     eta0: int = 2
     eta_max: int = 10
     v_des: float = 1e-3
@@ -115,12 +112,8 @@ class ScenarioConfig:
              f"({self.ergonomics_rate} Hz)")
         need(0 < self.physics_dt <= 1 / self.mocap_rate,
              f"physics_dt must be in (0, 1/mocap_rate], got {self.physics_dt}")
-        need(0 < self.ee_speed <= EE_SPEED_MAX,
-             f"ee_speed must be in (0, {EE_SPEED_MAX}] m/s (the Panda's Cartesian limit), "
-             f"got {self.ee_speed}")
-        need(0 < self.transit_speed <= EE_SPEED_MAX,
-             f"transit_speed must be in (0, {EE_SPEED_MAX}] m/s (the Panda's Cartesian limit), "
-             f"got {self.transit_speed}")
+        need(self.ee_speed > 0, f"ee_speed must be > 0 m/s, got {self.ee_speed}")
+        need(self.transit_speed > 0, f"transit_speed must be > 0 m/s, got {self.transit_speed}")
         need(self.ee_speed <= self.transit_speed,
              f"ee_speed ({self.ee_speed} m/s, contact-critical motion) must not exceed transit_speed "
              f"({self.transit_speed} m/s, free-space motion)")

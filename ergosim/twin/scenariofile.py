@@ -129,7 +129,7 @@ class Scenario:
         protocol.validate(where=where)
         new = dataclasses.replace(new, protocol=protocol,
                                   cell_overrides={**dict(new.cell_overrides), **groups["cell"]})
-        if new is not self and (groups["cell"] or groups["task"] or groups["refs"]):
+        if new is not self and (groups["cell"] or groups["task"] or groups["refs"] or own):
             from ergosim.twin.scenario_check import check_scenario  # noqa: PLC0415
 
             check_scenario(new, new.task(), new.cell())  # a bad key or value fails now, before any physics
