@@ -21,6 +21,7 @@ from ergosim.robot.handle import RobotHandle
 from ergosim.robot.model import compile_spec, robot_spec
 from ergosim.robot.robot_model import RobotModel
 from ergosim.scenes.cellspec import Surface, Worker
+from ergosim.scenes.park import ParkChoice, ParkRule, choose_park, robot_geoms
 
 __all__ = ["weld_name", "seat_name", "receive_name", "yaw_quat", "new_spec", "add_table", "add_box",
            "attach_robot", "attach_human", "add_welds", "human_hand_bodies", "finish", "quiet_attach"]
@@ -178,26 +179,40 @@ def human_hand_bodies(spec: mujoco.MjSpec) -> dict[str, str]:
     return out
 
 
-def finish(spec: mujoco.MjSpec, where: str,
-           robots: tuple[tuple[str, str, RobotModel], ...] = ()) -> mujoco.MjModel:
-    """Replace attached keyframes by one ``home`` (every robot of ``robots``, (name, prefix, model) triples,
-    at its home pose with its fingers open; parts laid out; the human's mocap segments keep their home
-    posture) and compile."""
+def finish(spec: mujoco.MjSpec, where: str, robots: tuple[tuple[str, str, RobotModel, float], ...] = ()
+           ) -> tuple[mujoco.MjModel, dict[str, ParkChoice]]:
+    """Replace attached keyframes by one ``home`` and compile: every robot of ``robots`` ((name, prefix,
+    model, park clearance [m]) tuples) parked for the worker (:func:`~ergosim.scenes.park.choose_park`, in
+    order, each seeing the ones before) with its fingers open; parts laid out; the human's mocap segments
+    keep their home posture. Returns the model and each robot's park choice."""
     for key in list(spec.keys):
         spec.delete(key)
     key = spec.add_key(name="home")  # filled in the compiled model: one compile, not two
     with quiet_attach():
         model = compile_spec(spec, where=where)
+    data = mujoco.MjData(model)
     qpos = model.qpos0.copy()
     ctrl = np.zeros(model.nu)
-    for name, prefix, kind in robots:
-        robot = RobotHandle.find(model, name, prefix, kind)
-        qpos[robot.arm_qpos] = kind.home
+    handles = [(RobotHandle.find(model, name, prefix, kind), clearance)
+               for name, prefix, kind, clearance in robots]
+    for robot, _ in handles:
+        qpos[robot.arm_qpos] = robot.robot.home
         for adr, j in zip(robot.finger_qpos, robot.finger_joints, strict=True):
             qpos[adr] = model.jnt_range[j][1]
-        ctrl[robot.arm_ctrl] = kind.home
+    parks = {}
+    for i, (robot, clearance) in enumerate(handles):
+        data.qpos[:] = qpos
+        mujoco.mj_kinematics(model, data)
+        others = [g for other, _ in handles[:i] + handles[i + 1:] for g in robot_geoms(model, other.base)]
+        ranges = model.jnt_range[[model.joint(robot.prefix + j).id for j in robot.robot.arm_joints]]
+        park = choose_park(model, data, robot.arm_qpos, robot.base, robot.robot.home,
+                           robot.robot.tuck or robot.robot.home, ranges[:, 0], ranges[:, 1],
+                           ParkRule(clearance=clearance), others=others)
+        parks[robot.name] = park
+        qpos[robot.arm_qpos] = park.q
+        ctrl[robot.arm_ctrl] = park.q
         ctrl[robot.grip_ctrl] = robot.gripper_open(model)
     model.key_qpos[0], model.key_ctrl[0] = qpos, ctrl
     key.qpos, key.ctrl = qpos.tolist(), ctrl.tolist()  # the spec (and a scene exported from it) says the same
-    return model
+    return model, parks
 

@@ -80,8 +80,9 @@ def _assemble(spec: CellSpec) -> tuple[mujoco.MjSpec, dict[str, str], mujoco.MjM
     _furniture(m, spec)
     surfaces = spec.surfaces()
     hands: dict[str, str] = {}
-    prefixes = tuple((r.name, robot_prefix(i, r.name), get_robot(r.model)) for i, r in enumerate(spec.robots))
-    for r, (_, prefix, kind) in zip(spec.robots, prefixes, strict=True):
+    prefixes = tuple((r.name, robot_prefix(i, r.name), get_robot(r.model), r.park_clearance)
+                     for i, r in enumerate(spec.robots))
+    for r, (_, prefix, kind, _) in zip(spec.robots, prefixes, strict=True):
         support = surfaces[r.support].height if r.support is not None else None
         build.attach_robot(m, kind, r.base, r.yaw, spec.timestep, support_height=support, prefix=prefix)
         hands[r.name] = f"{prefix}{kind.hand}"
@@ -127,7 +128,7 @@ def cell_mjspec(spec: CellSpec) -> mujoco.MjSpec:
 def build_cell(spec: CellSpec) -> Workcell:
     """The compiled :class:`Workcell` of ``spec`` (reset to its ``home`` keyframe)."""
     m, hands, human, prefixes = _assemble(spec)
-    model = build.finish(m, where=spec.source, robots=prefixes)
-    cell = Workcell(spec, model, action_geometry(spec), hands, human=human)
+    model, parks = build.finish(m, where=spec.source, robots=prefixes)
+    cell = Workcell(spec, model, action_geometry(spec), hands, human=human, parks=parks)
     check_clearance(spec, cell.model, cell.data)  # nothing starts inside furniture (at the home keyframe)
     return cell

@@ -55,7 +55,7 @@ _TOP = {"name": "str", "description": "str", "timestep": "float", "seat_toleranc
 _TABLES = ("aliases", "worker", "robots", "furniture", "parts", "targets", "actions", "views", "safety")
 _WORKER = {"name": "str", "xy": ("floats", 2), "yaw": "float", "hand": "str", "stature": "float",
            "human_scale": "pairs"}
-_ROBOT = {"model": "str", "base": ("floats", 3), "yaw": "float", "support": "str"}
+_ROBOT = {"model": "str", "base": ("floats", 3), "yaw": "float", "support": "str", "park_clearance": "float"}
 _FURNITURE = {
     "table": {"type": "str", "center": ("floats", 2), "size": ("floats", 2), "height": "float",
               "thickness": "float", "legs": "bool", "rgba": ("floats", 4)},
@@ -425,6 +425,8 @@ def _check(spec: CellSpec, at) -> None:
         entry = f"robots.{r.name}"
         need(r.model in robot_names(), f"{entry}.model",
              f"unknown robot model {r.model!r}; models: {', '.join(robot_names())}")
+        need(0.0 <= r.park_clearance <= 2.0, f"{entry}.park_clearance",
+             f"must be in [0, 2] m, got {r.park_clearance}")
         need(r.support is None or r.support in surfaces, f"{entry}.support",
              f"unknown surface {r.support!r}; surfaces: {', '.join(surfaces)}")
         if r.support is not None:

@@ -247,13 +247,15 @@ class Robot:
     """A robot named like its task agent: ``model`` a registered robot model
     (:func:`ergosim.robot.robot_names`; a file that names none gets :func:`ergosim.robot.default_robot`),
     its base body at ``base`` (3,) [m] turned by ``yaw`` [deg]; a pedestal fills the gap down to surface
-    ``support``."""
+    ``support``. ``park_clearance`` [m]: the distance its park (home) pose keeps from the worker's head,
+    neck and chest (:mod:`ergosim.scenes.park`; 0: the model's ready pose as it is)."""
 
     name: str
     model: str
     base: tuple[float, float, float] = (0.0, 0.0, 0.0)
     yaw: float = 0.0
     support: str | None = None
+    park_clearance: float = 0.5
 
 
 @dataclasses.dataclass(frozen=True)

@@ -7,9 +7,9 @@ the least change from the ready pose (joint-space distance [rad]) whose closest 
 :attr:`ParkRule.clearance` from the worker's head, neck and chest (ISO/TS 15066 Annex A body regions 1-3
 and 5, where contact is to be avoided or tolerated least) at the worker's rest posture, without touching
 furniture, parts or another robot. Where no candidate keeps the clearance (a base placed too close to the
-worker), the candidate with the largest clearance is taken and :attr:`ParkChoice.met` is False, so a
-check can say so. Distances are MuJoCo's between collision geoms (``mj_geomDistance``), world frame,
-metres.
+worker), the least change within :attr:`ParkRule.near` of the largest clearance is taken and
+:attr:`ParkChoice.met` is False, so a check can say so. Distances are MuJoCo's between collision geoms
+(``mj_geomDistance``), world frame, metres.
 """
 
 from __future__ import annotations
@@ -34,10 +34,13 @@ class ParkRule:
     the hand and arm (K = 2000 mm/s for S <= 500 mm) and counts it as a movement of the whole body
     (K = 1600 mm/s): parked at least that far from the head and chest, the robot is out of the way of the
     worker's head and upper body as long as the worker does not step towards it.
+    ``near`` [m]: when no candidate keeps ``clearance``, the least change within this of the largest
+    clearance is taken (assumed: 1 cm, below the capsule fit of the body model).
     ``yaw_step`` [deg] and ``tuck_steps``: the candidate grid (turns of the first joint in both
     directions up to its limits; folds 0, 1/n, ..., 1 of the way to the tuck posture)."""
 
     clearance: float = 0.5
+    near: float = 0.01
     regions: tuple[str, ...] = HEAD_AND_CHEST
     yaw_step: float = 5.0
     tuck_steps: int = 4
@@ -102,34 +105,38 @@ def _touches(model: mujoco.MjModel, data: mujoco.MjData, mine: set[int], depth: 
 
 
 def choose_park(model: mujoco.MjModel, data: mujoco.MjData, arm_qpos: np.ndarray, base: str,
-                home, tuck, lower, upper, rule: ParkRule = ParkRule(), depth: float = 0.003) -> ParkChoice:
+                home, tuck, lower, upper, rule: ParkRule = ParkRule(), depth: float = 0.003,
+                others=()) -> ParkChoice:
     """The park pose of one robot (module docstring) in the scene ``model``/``data`` as it stands (the
     worker at rest, the parts laid out, other robots where ``data`` has them). ``arm_qpos`` (n,) the arm's
     qpos addresses, ``base`` its base body; ``home``, ``tuck`` (n,) [rad]; ``lower``/``upper`` joint
-    limits. ``data.qpos`` is left as it was."""
+    limits; ``others``: geoms to keep clear of that do not collide with the robot (another robot's).
+    ``data.qpos`` is left as it was. A clearance of 0 keeps the ready pose."""
     home, tuck = np.asarray(home, dtype=float), np.asarray(tuck, dtype=float)
     regions = [model.geom(n).id for n in rule.regions if _has_geom(model, n)]
-    if not regions:
-        return ParkChoice(home, np.inf, True, 0.0, 0.0)
+    if not regions or rule.clearance <= 0:
+        return ParkChoice(home, np.inf if not regions else 0.0, True, 0.0, 0.0)
     mine = robot_geoms(model, base)
     mine_set = set(mine)
     saved = data.qpos.copy()
-    best: ParkChoice | None = None
+    tried: list[ParkChoice] = []
     try:
         for _, yaw, fold, q in _candidates(home, tuck, np.asarray(lower), np.asarray(upper), rule):
             data.qpos[arm_qpos] = q
             mujoco.mj_kinematics(model, data)
-            if _touches(model, data, mine_set, depth):
+            if _touches(model, data, mine_set, depth) or clearance_to(model, data, mine, others, 0.05) < 0:
                 continue
             d = clearance_to(model, data, mine, regions, rule.clearance + 1.0)
             if d >= rule.clearance:
                 return ParkChoice(q, d, True, yaw, fold)
-            if best is None or d > best.clearance:
-                best = ParkChoice(q, d, False, yaw, fold)
+            tried.append(ParkChoice(q, d, False, yaw, fold))
     finally:
         data.qpos[:] = saved
         mujoco.mj_kinematics(model, data)
-    return best if best is not None else ParkChoice(home, 0.0, False, 0.0, 0.0)
+    if not tried:
+        return ParkChoice(home, 0.0, False, 0.0, 0.0)
+    most = max(c.clearance for c in tried)
+    return next(c for c in tried if c.clearance >= most - rule.near)  # in cost order: the least change
 
 
 def _has_geom(model: mujoco.MjModel, name: str) -> bool:

@@ -93,7 +93,8 @@ class Workcell:
     """
 
     def __init__(self, spec: CellSpec, model: mujoco.MjModel, actions: dict[str, ActionGeometry],
-                 hand_bodies: dict[str, str], human: mujoco.MjModel | None = None) -> None:
+                 hand_bodies: dict[str, str], human: mujoco.MjModel | None = None,
+                 parks: dict | None = None) -> None:
         self.name = spec.name
         self.model = model
         self.data = mujoco.MjData(model)
@@ -101,6 +102,9 @@ class Workcell:
         self.actions = dict(actions)
         self.hand_bodies = dict(hand_bodies)
         self.human = MocapHuman(model, human) if human is not None else None
+        self.parks = dict(parks or {})
+        """robot name -> :class:`~ergosim.scenes.park.ParkChoice`: where it parks, its clearance [m] from the
+        worker's head, neck and chest, and whether that met the cell's rule."""
         self.home_key = model.keyframe("home").id
         self.parts = tuple(p.name for p in spec.parts)
         self.robots = tuple(r.name for r in spec.robots)

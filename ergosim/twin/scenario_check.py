@@ -233,8 +233,14 @@ def check_reachability(scenario, task: AndOrGraph, cell) -> list[str]:
             raise ConfigError(f"robot {robot!r} at {np.round(base, 2).tolist()} reaches none of the "
                               f"{len(tried)} actions it may do; move its base or take it out of the task",
                               where=f"{src}: robots.{robot}.base")
-    return [f"{why}; the {human} does it" if human in allowed[action] else why
-            for (action, _), why in sorted(refused.items())]
+    lines = [f"{why}; the {human} does it" if human in allowed[action] else why
+             for (action, _), why in sorted(refused.items())]
+    for name, park in cell.parks.items():
+        if not park.met:
+            wanted = next(r.park_clearance for r in cell.config.robots if r.name == name)
+            lines.append(f"robot {name!r} parks {park.clearance:.2f} m from the worker's head, neck and "
+                         f"chest: no pose from its base keeps {wanted:g} m (robots.{name}.park_clearance)")
+    return lines
 
 
 def _robot_reaches(cell, robot: str, kin, point: np.ndarray) -> bool:
