@@ -92,8 +92,8 @@ def _serve(inbox: Connection, outbox: Connection, spec: FrameSpec) -> None:
             image = overlay.draw(image, info)
             outbox.send((time.perf_counter() - c1, c1 - c0))
             outbox.send_bytes(memoryview(np.ascontiguousarray(image, dtype=np.uint8)).cast("B"))
-    except (EOFError, BrokenPipeError, KeyboardInterrupt):
-        pass
+    except (EOFError, OSError, KeyboardInterrupt):
+        pass  # the caller closed the pipes (it finished, failed or was stopped): nothing left to do
     finally:
         renderer.close()
 
@@ -107,8 +107,8 @@ def spawned_main(read_fd: int, write_fd: int) -> None:
     inbox, outbox = Connection(read_fd, writable=False), Connection(write_fd, readable=False)
     try:
         spec = inbox.recv()
-    except EOFError:
-        return
+    except (EOFError, OSError, KeyboardInterrupt):
+        return  # the caller stopped before sending the spec
     _serve(inbox, outbox, spec)
 
 
