@@ -7,7 +7,7 @@ the least change from the ready pose (joint-space distance [rad]) whose closest 
 :attr:`ParkRule.clearance` from the worker's head, neck and chest (ISO/TS 15066 Annex A body regions 1-3
 and 5, where contact is to be avoided or tolerated least) at the worker's rest posture, without touching
 furniture, parts or another robot. Where no candidate keeps the clearance (a base placed too close to the
-worker), the least change within :attr:`ParkRule.near` of the largest clearance is taken and
+worker), the largest clearance is taken (or the least change within :attr:`ParkRule.near` of it) and
 :attr:`ParkChoice.met` is False, so a check can say so. Distances are MuJoCo's between collision geoms
 (``mj_geomDistance``), world frame, metres.
 """
@@ -35,12 +35,12 @@ class ParkRule:
     (K = 1600 mm/s): parked at least that far from the head and chest, the robot is out of the way of the
     worker's head and upper body as long as the worker does not step towards it.
     ``near`` [m]: when no candidate keeps ``clearance``, the least change within this of the largest
-    clearance is taken (assumed: 1 cm, below the capsule fit of the body model).
+    clearance is taken (0: the largest clearance).
     ``yaw_step`` [deg] and ``tuck_steps``: the candidate grid (turns of the first joint in both
     directions up to its limits; folds 0, 1/n, ..., 1 of the way to the tuck posture)."""
 
     clearance: float = 0.5
-    near: float = 0.01
+    near: float = 0.0
     regions: tuple[str, ...] = HEAD_AND_CHEST
     yaw_step: float = 5.0
     tuck_steps: int = 4
