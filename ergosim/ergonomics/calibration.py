@@ -100,7 +100,13 @@ class Calibration:
 
     @property
     def rula_scores(self) -> dict[str, float]:
+        """action -> G(a_k), the whole-body score held longest (RULA's grand score on RULA part scores)."""
         return {a: c.rula_grand for a, c in self.actions.items()}
+
+    @property
+    def grand_scores(self) -> dict[str, float]:
+        """action -> G(a_k) of the calibrated feature: RULA's grand score, or the REBA score."""
+        return self.rula_scores
 
     @property
     def eta(self) -> dict[str, int]:

@@ -71,14 +71,15 @@ def solve_ik(kin: ArmKinematics, pos: np.ndarray, rot: np.ndarray, q0: np.ndarra
              margin: float = 1e-3) -> IKResult:
     """TCP at ``pos`` (3,) [m] with orientation ``rot`` (3, 3), base frame, within the joint limits.
 
-    Tries ``q0`` (default home), then ``seeds``, then ``restarts`` configurations drawn from ``rng``; the
+    Tries ``q0`` (default the ready pose), then ``seeds``, then ``restarts`` configurations drawn from
+    ``rng``; the
     first that converges is returned, else the best attempt with ``ok=False``. ``margin`` [rad] keeps the
     solution that far inside each limit.
     """
     pos = np.asarray(pos, dtype=float)
     rot = np.asarray(rot, dtype=float)
-    q_pref = kin.home if q_pref is None else np.asarray(q_pref, dtype=float)
-    starts = [kin.home if q0 is None else np.asarray(q0, dtype=float)] + list(seeds or [])
+    q_pref = kin.ready if q_pref is None else np.asarray(q_pref, dtype=float)
+    starts = [kin.ready if q0 is None else np.asarray(q0, dtype=float)] + list(seeds or [])
     if rng is not None:
         starts += [rng.uniform(kin.lower, kin.upper) for _ in range(restarts)]
     tol_rot = np.deg2rad(tol_rot_deg)

@@ -42,9 +42,10 @@ class ArmKinematics:
     """Forward kinematics and frame Jacobians of one robot's arm.
 
     ``lower``/``upper`` (n,) joint limits [rad]; ``velocity`` (n,) [rad/s] and ``effort`` (n,) [N m]
-    limits; ``home`` (n,) the configuration the robot parks in [rad]: ``home`` if given (a workcell's park
-    pose, :meth:`~ergosim.scenes.workcell.Workcell.robot_home`), else the model's ready pose; ``robot`` the
-    :class:`RobotModel`.
+    limits; ``ready`` (n,) the model's ready pose [rad], where inverse kinematics starts and what its null
+    space leans towards; ``home`` (n,) the configuration the robot parks in and returns to [rad]: ``home``
+    if given (a workcell's park pose, :meth:`~ergosim.scenes.workcell.Workcell.robot_home`), else the ready
+    pose; ``robot`` the :class:`RobotModel`.
     """
 
     def __init__(self, robot: RobotModel, home=None) -> None:
@@ -56,7 +57,8 @@ class ArmKinematics:
         self.upper = self.model.upperPositionLimit.copy()
         self.velocity = self.model.velocityLimit.copy()
         self.effort = self.model.effortLimit.copy()
-        self.home = np.array(robot.home if home is None else home, dtype=float)
+        self.ready = np.array(robot.home, dtype=float)
+        self.home = self.ready.copy() if home is None else np.array(home, dtype=float)
 
     @property
     def nq(self) -> int:

@@ -224,7 +224,7 @@ class Skill(ABC):
             traj = None
             label = "contact" if way.kind == "contact" else (phase or way.kind)
             if way.mode == "joint":
-                res = solve_ik(self.kin, goal.pos, goal.rot, self.kin.home, seeds=[q, *self._wrist_seeds(q)])
+                res = solve_ik(self.kin, goal.pos, goal.rot, self.kin.ready, seeds=[q, *self._wrist_seeds(q)])
                 if not res.ok:
                     raise PathError(f"no IK solution at {np.round(goal.pos, 3).tolist()} (base frame), "
                                     f"{res.pos_error * 1000:.0f} mm and {res.rot_error_deg:.0f} deg short",

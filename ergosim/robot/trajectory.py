@@ -159,7 +159,7 @@ def _line_ik(kin: ArmKinematics, q_start: np.ndarray, start: Pose, goal: Pose, r
         # intermediate knots of a transit need not be exact (1 mm, 0.5 deg); the segment's end does
         loose = s < 1.0
         tol = dict(tol_pos=1e-3 if loose else 2e-4, tol_rot_deg=0.5 if loose else 0.05)
-        res = solve_ik(kin, pos, rot, qs[-1], q_pref=kin.home, max_iter=100, **tol)
+        res = solve_ik(kin, pos, rot, qs[-1], q_pref=kin.ready, max_iter=100, **tol)
         if not res.ok:  # the pull towards home can pin a joint at its limit near the workspace's edge
             res = solve_ik(kin, pos, rot, qs[-1], q_pref=qs[-1], max_iter=100, **tol)
         if not res.ok:

@@ -26,6 +26,7 @@ from ergosim.robot.robot_model import default_robot, robot_names
 from ergosim.robot.ssm import SSMParams
 from ergosim.scenes.cellspec import (
     ACTION_KINDS,
+    COUPLINGS,
     SHAPES,
     Action,
     Box,
@@ -68,7 +69,7 @@ _PART = {"shape": "str", "size": ("floats", 3), "radius": "float", "length": "fl
          "scale": "float", "bore": "float", "clearance": "float", "wall": "float", "sleeve_length": "float",
          "sleeves": "strs", "mass": "float", "density": "float", "section_area": "float",
          "rgba": ("floats", 4), "on": "str", "xy": ("floats", 2), "yaw": "float", "pos": ("floats", 3),
-         "rpy": ("floats", 3), "insert_axis": "str", "grasp": "str", "slots": "slots"}
+         "rpy": ("floats", 3), "insert_axis": "str", "grasp": "str", "slots": "slots", "coupling": "str"}
 _SLOT = {"name": "str", "at": ("floats", 3), "axis": "axis"}
 _TARGET = {"on": "str", "xy": ("floats", 2), "yaw": "float", "part": "str", "pos": ("floats", 3)}
 _ACTION = {"kind": "str", "part": "str", "target": "str", "handover": "str", "turn_time": "float"}
@@ -329,6 +330,9 @@ def _part(name: str, t: Any, where: str) -> Part:
             raise ConfigError(f"a {f['shape']} needs {k!r}", where=where)
     if f.get("grasp", "center") not in ("center", "top"):
         raise ConfigError(f"expected center or top, got {f['grasp']!r}", where=f"{where}.grasp")
+    if f.get("coupling", "good") not in COUPLINGS:
+        raise ConfigError(f"coupling must be one of {', '.join(COUPLINGS)} (REBA's), got {f['coupling']!r}",
+                          where=f"{where}.coupling")
     if f.get("insert_axis", "x") not in ("x", "y", "z"):
         raise ConfigError(f"expected x, y or z, got {f['insert_axis']!r}", where=f"{where}.insert_axis")
     for s in f.get("sleeves", ()):

@@ -131,6 +131,10 @@ class Slot:
         return f"{self.host}.{self.name}"
 
 
+COUPLINGS = ("good", "fair", "poor", "unacceptable")
+"""REBA's coupling levels a part's ``coupling`` may name (Hignett & McAtamney 2000)."""
+
+
 @dataclasses.dataclass(frozen=True)
 class Part:
     """A free body. ``shape``: box (``size`` full (x, y, z) [m]), cylinder (``radius``, ``length`` along local
@@ -168,6 +172,9 @@ class Part:
     insert_axis: Literal["x", "y", "z"] = "x"
     grasp: Literal["center", "top"] = "center"
     slots: tuple[Slot, ...] = ()
+    coupling: str | None = None
+    """How the worker's hand holds it, one of :data:`COUPLINGS` (REBA's coupling); None: from its grip width
+    (:func:`ergosim.ergonomics.reba_parts.grip_coupling`, applied where the worker is scored)."""
 
     @property
     def core_half(self) -> float:

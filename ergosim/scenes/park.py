@@ -7,8 +7,9 @@ the least change from the ready pose (joint-space distance [rad]) whose closest 
 :attr:`ParkRule.clearance` from the worker's head, neck and chest (ISO/TS 15066 Annex A body regions 1-3
 and 5, where contact is to be avoided or tolerated least) at the worker's rest posture, without touching
 furniture, parts or another robot. Where no candidate keeps the clearance (a base placed too close to the
-worker), the largest clearance is taken (or the least change within :attr:`ParkRule.near` of it) and
-:attr:`ParkChoice.met` is False, so a check can say so. Distances are MuJoCo's between collision geoms
+worker), the robot keeps its ready pose -- a half-way pose turned towards other furniture may leave the
+arm a path through it, which the transits do not check -- and :attr:`ParkChoice.met` is False, so the
+pre-run check says how close it parks. Distances are MuJoCo's between collision geoms
 (``mj_geomDistance``), world frame, metres.
 """
 
@@ -34,15 +35,15 @@ class ParkRule:
     the hand and arm (K = 2000 mm/s for S <= 500 mm) and counts it as a movement of the whole body
     (K = 1600 mm/s): parked at least that far from the head and chest, the robot is out of the way of the
     worker's head and upper body as long as the worker does not step towards it.
-    ``near`` [m]: when no candidate keeps ``clearance``, the least change within this of the largest
-    clearance is taken (0: the largest clearance).
-    ``yaw_step`` [deg] and ``tuck_steps``: the candidate grid (turns of the first joint in both
-    directions up to its limits; folds 0, 1/n, ..., 1 of the way to the tuck posture)."""
+    ``yaw_step`` [deg], ``max_yaw`` [deg] and ``tuck_steps``: the candidate grid (turns of the first joint
+    in both directions up to ``max_yaw`` and its limits -- 90 deg keeps the arm on the side it works on, so
+    its way to the parts never swings round over them (assumed); folds 0, 1/n, ..., 1 of the way to the
+    tuck posture)."""
 
     clearance: float = 0.5
-    near: float = 0.0
     regions: tuple[str, ...] = HEAD_AND_CHEST
     yaw_step: float = 5.0
+    max_yaw: float = 90.0
     tuck_steps: int = 4
 
 
@@ -82,7 +83,8 @@ def _candidates(home: np.ndarray, tuck: np.ndarray, lower: np.ndarray, upper: np
     """(cost, yaw, fold, q) in order of cost: the joint-space distance [rad] from the ready pose."""
     out = []
     step = np.radians(rule.yaw_step)
-    n = int(np.floor(max(upper[0] - home[0], home[0] - lower[0]) / step))
+    widest = min(max(upper[0] - home[0], home[0] - lower[0]), np.radians(rule.max_yaw))
+    n = int(np.floor(widest / step + 1e-9))
     for k in range(rule.tuck_steps + 1):
         fold = k / rule.tuck_steps if rule.tuck_steps else 0.0
         base = home + fold * (tuck - home)
@@ -119,7 +121,6 @@ def choose_park(model: mujoco.MjModel, data: mujoco.MjData, arm_qpos: np.ndarray
     mine = robot_geoms(model, base)
     mine_set = set(mine)
     saved = data.qpos.copy()
-    tried: list[ParkChoice] = []
     try:
         for _, yaw, fold, q in _candidates(home, tuck, np.asarray(lower), np.asarray(upper), rule):
             data.qpos[arm_qpos] = q
@@ -129,14 +130,13 @@ def choose_park(model: mujoco.MjModel, data: mujoco.MjData, arm_qpos: np.ndarray
             d = clearance_to(model, data, mine, regions, rule.clearance + 1.0)
             if d >= rule.clearance:
                 return ParkChoice(q, d, True, yaw, fold)
-            tried.append(ParkChoice(q, d, False, yaw, fold))
+        data.qpos[arm_qpos] = home
+        mujoco.mj_kinematics(model, data)
+        ready = clearance_to(model, data, mine, regions, rule.clearance + 1.0)
     finally:
         data.qpos[:] = saved
         mujoco.mj_kinematics(model, data)
-    if not tried:
-        return ParkChoice(home, 0.0, False, 0.0, 0.0)
-    most = max(c.clearance for c in tried)
-    return next(c for c in tried if c.clearance >= most - rule.near)  # in cost order: the least change
+    return ParkChoice(home, ready, False, 0.0, 0.0)
 
 
 def _has_geom(model: mujoco.MjModel, name: str) -> bool:

@@ -9,6 +9,8 @@ Bundled modes:
 
 - ``hrc``: KWear-driven allocation (eq. 9-11), the paper's framework;
 - ``rula``: the static RULA baseline of §7.1 (a constant G(a_k) per action against G_th);
+- ``hrc-reba``: the same framework with KWear on REBA's part scores (the legs a sixth joint);
+- ``reba``: a static REBA baseline (the REBA score G(a_k) against ``reba_threshold``);
 - ``h-only``: the worker does everything and waits for the takt (§7.2's H only);
 - ``r-only``: every action a robot may do goes to a robot.
 
@@ -24,7 +26,7 @@ from collections.abc import Callable, Mapping
 import numpy as np
 
 from ergosim.ergonomics.cost import CostParams, rula_baseline_params
-from ergosim.ergonomics.risk_index import RiskIndex, StaticRulaIndex
+from ergosim.ergonomics.risk_index import REBA_G_MAX, RiskIndex, StaticRebaIndex, StaticRulaIndex
 from ergosim.errors import ConfigError
 from ergosim.plugins import note_caller
 from ergosim.viz.reason import allocation_reason
@@ -35,8 +37,9 @@ __all__ = ["Mode", "RiskIndexEntry", "IndexContext", "register_mode", "register_
 
 @dataclasses.dataclass(frozen=True)
 class IndexContext:
-    """What a risk-index factory may use: the scenario protocol, the subject's online KWear index (fed by
-    the plant every ergonomics tick) and its calibration (α, G(a_k), η)."""
+    """What a risk-index factory may use: the scenario protocol, the subject's online KWear index on the
+    index's feature (fed by the plant every ergonomics tick) and its calibration on that feature (α, G(a_k),
+    η)."""
 
     protocol: object
     kwear: RiskIndex
@@ -50,11 +53,14 @@ Pruning = Callable[[Mapping[str, set[str]], str, tuple[str, ...]], set[tuple[str
 @dataclasses.dataclass(frozen=True)
 class RiskIndexEntry:
     """``build(ctx)`` -> (the index, its cost rule); ``reason(action, agent, v_hat, costs, index, cost, human,
-    robots)`` -> the decision's text."""
+    robots)`` -> the decision's text; ``features``: the posture feature the index reads (the worker's online
+    KWear of the run, its calibration and its tick columns follow it: ``rula`` or ``reba``,
+    :mod:`ergosim.ergonomics.features`)."""
 
     name: str
     build: Callable[[IndexContext], tuple[RiskIndex, CostParams]]
     reason: Callable[..., str]
+    features: str = "rula"
 
 
 @dataclasses.dataclass(frozen=True)
@@ -160,12 +166,20 @@ def _rula_reason(action, agent, v_hat, costs, index, cost, human, robots) -> str
     vh = np.asarray(v_hat[action])
     rel = "≥" if vh[int(np.argmax(vh))] >= th else "<"
     g_max = index.g_max
-    return (f"{action} → {agent}: RULA G={vh[0] * g_max:g} {rel} G_th {th * g_max:g}"
+    return (f"{action} → {agent}: {index.score_name} G={vh[0] * g_max:g} {rel} G_th {th * g_max:g}"
             f" (human cost {hc:.2f}, robot cost {rc:.2f})")
+
+
+def _reba(ctx: IndexContext) -> tuple[RiskIndex, CostParams]:
+    cfg = ctx.protocol
+    return (StaticRebaIndex(ctx.calibration.grand_scores),
+            rula_baseline_params(cfg.robot_cost, cfg.gamma, g_th=cfg.reba_threshold, g_max=REBA_G_MAX))
 
 
 register_risk_index(RiskIndexEntry("kwear", _kwear, _kwear_reason))
 register_risk_index(RiskIndexEntry("rula-static", _rula, _rula_reason))
+register_risk_index(RiskIndexEntry("kwear-reba", _kwear, _kwear_reason, features="reba"))
+register_risk_index(RiskIndexEntry("reba-static", _reba, _rula_reason, features="reba"))
 
 
 # -- the bundled modes ---------------------------------------------------------------------------------------
@@ -181,6 +195,10 @@ register_mode(Mode("hrc", "KWear-driven allocation (paper eq. 9-11)", risk_index
                    paired_with="h-only"))
 register_mode(Mode("rula", "static RULA baseline (paper §7.1, Table 1)", risk_index="rula-static",
                    table_key="rula"))
+register_mode(Mode("hrc-reba", "KWear on REBA part scores, legs included (eq. 9-11 on REBA)",
+                   risk_index="kwear-reba", table_key="kwear_reba", paired_with="h-only"))
+register_mode(Mode("reba", "static REBA baseline (G(a_k) >= reba_threshold goes to the robot)",
+                   risk_index="reba-static", table_key="reba"))
 register_mode(Mode("h-only", "the worker does everything and waits for the takt (paper §7.2)",
                    prune=_human_only, waits_for_takt=True, uses_robot=False))
 register_mode(Mode("r-only", "every action a robot may do goes to a robot", prune=_robot_first))

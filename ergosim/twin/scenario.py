@@ -18,7 +18,7 @@ from ergosim.errors import ConfigError
 from ergosim.robot.trajectory import CONTACT_SPEED, TRANSIT_SPEED
 from ergosim.twin.modes import mode_names
 
-__all__ = ["ScenarioConfig", "ETA_MAX_LIMIT", "TEAM_FIELDS"]
+__all__ = ["ScenarioConfig", "ETA_MAX_LIMIT", "TEAM_FIELDS", "REBA_FIELDS"]
 ETA_MAX_LIMIT = 50
 """Largest eta_max (calibration passes, §5). Assumed: each pass performs every action once (about a minute
 of simulated work), so 50 passes already take minutes of wall time per subject; the paper's η stay < 10."""
@@ -47,6 +47,10 @@ class ScenarioConfig:
     rula_g_max: float = 9.0
     """G_max of the static RULA baseline; the paper takes 9, the top of Table A (§7.1)."""
     rula_threshold_fraction: float = 0.8
+    reba_threshold: float = 8.0
+    """G_th of the static REBA baseline (mode ``reba``): an action goes to the robot when its REBA score
+    G(a_k) reaches it; 8, the first score of REBA's "high risk" band (action necessary soon, Hignett &
+    McAtamney 2000). Its G_max is 15, the top REBA score."""
     ergonomics_rate: float = 20.0
     mocap_rate: float = 60.0
     physics_dt: float = 1.0 / 240.0
@@ -125,6 +129,8 @@ class ScenarioConfig:
         need(self.noise_scale >= 0, "noise_scale must be >= 0")
         need(0 <= self.dropout_rate < 1, "dropout_rate must be in [0, 1)")
         need(0 < self.rula_threshold_fraction <= 1, "rula_threshold_fraction must be in (0, 1]")
+        need(1 <= self.reba_threshold <= 15, f"reba_threshold must be a REBA score in [1, 15], got "
+             f"{self.reba_threshold}")
         need(0 <= self.female_fraction <= 1, f"female_fraction must be in [0, 1], got {self.female_fraction}")
         need(0.1 <= self.pace <= 2.0, f"pace must be in [0.1, 2] (1 = MTM-1 standard performance), "
              f"got {self.pace}")
@@ -148,6 +154,9 @@ class ScenarioConfig:
         if all(out[k] == v for k, v in defaults.items()):
             for k in TEAM_FIELDS:
                 out.pop(k)
+        for k in REBA_FIELDS:  # as for the team fields: a protocol that never set them records them not
+            if out[k] == next(f.default for f in dataclasses.fields(self) if f.name == k):
+                out.pop(k)
         return out
 
     def team_settings(self) -> dict:
@@ -163,3 +172,5 @@ class ScenarioConfig:
 TEAM_FIELDS = ("execution", "w_time", "team_margin", "negotiation", "refusal_tolerance",
                "refusal_tolerance_sd", "refusal_slope")
 """The protocol fields of team execution (issue 17)."""
+REBA_FIELDS = ("reba_threshold",)
+"""The protocol fields of the REBA modes, recorded only when set."""
