@@ -9,11 +9,15 @@ from pathlib import Path
 
 import pytest
 
+from ergosim.cli import main
 from ergosim.errors import ConfigError
 from ergosim.robot import get_robot, robot_names
 from ergosim.robot.capability import refusal
 from ergosim.robot.panda import PANDA
 from ergosim.robot.ur5 import UR5
+from ergosim.scenes import build_cell
+from ergosim.twin.scenario_check import _handover_clearance, robot_refusals
+from ergosim.twin.scenariofile import load_scenario
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -72,3 +76,25 @@ def test_no_panda_specific_name_outside_the_pandas_module():
             if "panda" in text.lower() and not registers:
                 hits.append(f"{rel}:{line}: {text}")
     assert not hits, "\n".join(hits)
+
+
+def test_a_handover_pose_at_the_workers_face_is_refused_for_the_robot(capsys, tmp_path):
+    """The hand-over clearance rule: the multi-subject hand-over pose keeps the Panda 0.28-0.30 m from the
+    worker's head, neck and chest; moved in front of the worker's chest, the robot is refused every hand-over before
+    the physics, in one line each, and the worker does them; out of its reach, likewise."""
+    sc = load_scenario("multi-subject")
+    cell = build_cell(sc.cell())
+    clear = [_handover_clearance(cell, cell.robot(), g) for g in cell.actions.values() if g.handover]
+    assert len(clear) == 4 and all(0.2 < c < 0.35 for c in clear)
+    assert robot_refusals(sc.task(), cell) == {}
+    near = load_scenario("multi-subject", {"scene.targets.handover.pos": "0.25,0.3,1.3"})
+    refused = robot_refusals(near.task(), build_cell(near.cell()))
+    assert set(refused) == {("a1", "robot"), ("a2", "robot"), ("a3", "robot"), ("a4", "robot")}
+    assert all("from the worker's head, neck or chest (at least 0.2 m)" in why for why in refused.values())
+    code = main(["run", "multi-subject", "--subjects", "1", "--reps", "1", "--mode", "r-only", "--quiet",
+                 "--set", "scene.targets.handover.pos=0.25,0.3,1.3", "--out", str(tmp_path / "o")])
+    out = capsys.readouterr().out
+    assert code == 0 and out.count("holding") == 4 and "the human does it" in out
+    far = load_scenario("multi-subject", {"scene.targets.handover.pos": "0.15,0.3,1.35"})
+    assert all("handover is out of its reach" in why
+               for why in robot_refusals(far.task(), build_cell(far.cell())).values())

@@ -21,10 +21,16 @@ from typing import NamedTuple
 import mujoco
 import numpy as np
 
-__all__ = ["ParkRule", "ParkChoice", "HEAD_AND_CHEST", "choose_park", "robot_geoms", "clearance_to"]
+__all__ = ["ParkRule", "ParkChoice", "HEAD_AND_CHEST", "HANDOVER_CLEARANCE", "choose_park", "robot_geoms",
+           "clearance_to"]
 
 HEAD_AND_CHEST = ("human_head", "human_neck", "human_chest")
 """The human model's geoms of ISO/TS 15066's skull and face, neck and chest regions."""
+
+HANDOVER_CLEARANCE = 0.2
+"""[m] what the robot keeps from the worker's head, neck and chest while it holds a part out at a hand-over
+(the part itself may come closer: the worker's hand takes it). Assumed: about a hand's length (0.108 of
+stature, Drillis & Contini; 0.19 m at 1.75 m), so a hand reaching for the part fits between."""
 
 
 @dataclasses.dataclass(frozen=True)

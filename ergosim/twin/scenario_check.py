@@ -11,6 +11,7 @@ action is left to nobody, or a robot can do none of its actions, naming the agen
 
 from __future__ import annotations
 
+import mujoco
 import numpy as np
 
 from ergosim.errors import ConfigError
@@ -20,6 +21,7 @@ from ergosim.robot.ik import solve_ik
 from ergosim.robot.kinematics import ArmKinematics
 from ergosim.robot.robot_model import get_robot
 from ergosim.scenes import CellSpec
+from ergosim.scenes.park import HANDOVER_CLEARANCE, HEAD_AND_CHEST, clearance_to, robot_geoms
 
 __all__ = ["check_scenario", "robot_refusals", "check_reachability", "precheck"]
 
@@ -150,9 +152,56 @@ def robot_refusals(task: AndOrGraph, cell) -> dict[tuple[str, str], str]:
             width = cell.grip_width(cell.grasp_body(geom.part))
             why = refusal(handle.robot, action, geom.part, width, mass.get(action), not far,
                           far[0] if far else "")
+            if why is None and geom.handover and _has_worker(cell):
+                clear = _handover_clearance(cell, handle, geom)
+                if clear is None:
+                    why = refusal(handle.robot, action, geom.part, width, None, False, geom.handover)
+                elif clear < HANDOVER_CLEARANCE:
+                    why = (f"{handle.robot.name} cannot do {action}: holding {geom.part} out at "
+                           f"{geom.handover} it would come {clear:.2f} m from the worker's head, neck or "
+                           f"chest (at least {HANDOVER_CLEARANCE:g} m)")
             if why is not None:
                 out[(action, agent)] = why
     return out
+
+
+def _handover_clearance(cell, handle, geom) -> float | None:
+    """The robot's clearance [m] from the worker's head, neck and chest (at the worker's rest posture)
+    while it holds ``geom``'s part out at its hand-over pose, grasped as laid out (top-down at its grasp
+    site); None if no IK solution holds it there."""
+    m, d = cell.model, cell.data
+    kin = ArmKinematics(handle.robot)
+    base_p, base_q = cell.robot_base_pose(handle.name)
+    base_r = _mat(base_q)
+    part_p, part_q = cell.body_pose(geom.part)
+    site = m.site(cell.grasp_site(geom.part)).id
+    rel_p = _mat(part_q).T @ (d.site_xpos[site] - part_p)
+    rel_r = _mat(part_q).T @ d.site_xmat[site].reshape(3, 3)
+    to_p, to_q = cell.site_pose(geom.handover)
+    tcp_p, tcp_r = to_p + _mat(to_q) @ rel_p, _mat(to_q) @ rel_r
+    for flip in (np.eye(3), np.diag([-1.0, -1.0, 1.0])):  # the grasp turned 180 deg about the TCP z
+        res = solve_ik(kin, base_r.T @ (tcp_p - base_p), base_r.T @ tcp_r @ flip, kin.ready, restarts=4,
+                       rng=np.random.default_rng(0))
+        if res.ok:
+            saved = d.qpos.copy()
+            d.qpos[handle.arm_qpos] = res.q
+            mujoco.mj_kinematics(m, d)
+            regions = [m.geom(n).id for n in HEAD_AND_CHEST]
+            clear = clearance_to(m, d, robot_geoms(m, handle.base), regions)
+            d.qpos[:] = saved
+            mujoco.mj_kinematics(m, d)
+            return float(clear)
+    return None
+
+
+def _mat(quat) -> np.ndarray:
+    r = np.empty(9)
+    mujoco.mju_quat2Mat(r, np.asarray(quat, dtype=float))
+    return r.reshape(3, 3)
+
+
+def _has_worker(cell) -> bool:
+    return all(mujoco.mj_name2id(cell.model, mujoco.mjtObj.mjOBJ_GEOM, n) >= 0 for n in HEAD_AND_CHEST)
 
 
 def _reach_sphere(cell, handle) -> tuple[np.ndarray, float]:
