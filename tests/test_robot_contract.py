@@ -80,8 +80,8 @@ def test_no_panda_specific_name_outside_the_pandas_module():
 
 def test_a_handover_pose_at_the_workers_face_is_refused_for_the_robot(capsys, tmp_path):
     """The hand-over clearance rule: the multi-subject hand-over pose keeps the Panda 0.28-0.30 m from the
-    worker's head, neck and chest; moved in front of the worker's chest, the robot is refused every hand-over before
-    the physics, in one line each, and the worker does them; out of its reach, likewise."""
+    worker's head, neck and chest; moved in front of the worker's chest, the robot is refused every hand-over
+    before the physics, in one line each, and the worker does them; out of its reach, likewise."""
     sc = load_scenario("multi-subject")
     cell = build_cell(sc.cell())
     clear = [_handover_clearance(cell, cell.robot(), g) for g in cell.actions.values() if g.handover]
