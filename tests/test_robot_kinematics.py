@@ -5,17 +5,15 @@ import mujoco
 import numpy as np
 import pytest
 
-from ergosim.robot import ArmKinematics, robot_spec
+from ergosim.robot import ArmKinematics, get_robot, robot_names, robot_spec
 from ergosim.robot.assets import erd_file
 from ergosim.robot.ik import solve_ik
-from ergosim.robot.panda import PANDA
-from ergosim.robot.ur5 import UR5
 from ergosim.robot.urdf import read_urdf
 
 
-@pytest.fixture(scope="module", params=[PANDA, UR5], ids=["panda", "ur5"])
+@pytest.fixture(scope="module", params=robot_names())  # every registered robot
 def robot(request):
-    return request.param
+    return get_robot(request.param)
 
 
 @pytest.fixture(scope="module")

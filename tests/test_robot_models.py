@@ -7,14 +7,12 @@ import mujoco
 import numpy as np
 import pytest
 
-from ergosim.robot import robot_files, robot_names, robot_spec
+from ergosim.robot import get_robot, robot_files, robot_names, robot_spec
 from ergosim.robot.assets import erd_file
 from ergosim.robot.model import model_dir, scene_xml
-from ergosim.robot.panda import PANDA
-from ergosim.robot.ur5 import UR5
 from ergosim.robot.urdf import read_urdf
 
-ROBOTS = [PANDA, UR5]
+ROBOTS = [get_robot(n) for n in robot_names()]  # every registered robot
 IDS = [r.name for r in ROBOTS]
 
 
