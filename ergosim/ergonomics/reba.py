@@ -38,6 +38,7 @@ from ergosim.ergonomics.reba_parts import (
     wrist_score,
 )
 from ergosim.ergonomics.reba_tables import TABLE_A, TABLE_B, TABLE_C, risk_level
+from ergosim.ergonomics.scores import score_index
 from ergosim.posture import ANGLE_NAMES, array_to_posture
 
 __all__ = [
@@ -104,30 +105,24 @@ REBA_PARTS: tuple[str, ...] = RebaResult._fields[:6]
 _DEFAULT = RebaThresholds()
 
 
-def _index(name: str, value, hi: int) -> np.ndarray:
-    v = np.asarray(value)
-    i = v.astype(np.int64) if v.dtype.kind in "iub" else np.rint(v).astype(np.int64)
-    if not (np.all(i == v) and np.all((i >= 1) & (i <= hi))):
-        raise ValueError(f"{name} must be an integer score 1..{hi}, got {value!r}")
-    return i - 1
 
 
 def reba_table_a(trunk, neck, legs):
     """Posture score A (1..9) from trunk 1..5, neck 1..3, legs 1..4."""
-    return TABLE_A[_index("trunk", trunk, 5), _index("neck", neck, 3), _index("legs", legs, 4)]
+    return TABLE_A[score_index("trunk", trunk, 5), score_index("neck", neck, 3), score_index("legs", legs, 4)]
 
 
 def reba_table_b(upper_arm, lower_arm, wrist):
     """Posture score B (1..9) from upper arm 1..6, lower arm 1..2, wrist 1..3."""
-    return TABLE_B[_index("upper_arm", upper_arm, 6), _index("lower_arm", lower_arm, 2),
-                   _index("wrist", wrist, 3)]
+    return TABLE_B[score_index("upper_arm", upper_arm, 6), score_index("lower_arm", lower_arm, 2),
+                   score_index("wrist", wrist, 3)]
 
 
 def reba_table_c(score_a, score_b):
     """Score C (1..12) from score A and score B (each >= 1; 12 is the table's last row and column)."""
     a = np.minimum(np.asarray(score_a), 12)
     b = np.minimum(np.asarray(score_b), 12)
-    return TABLE_C[_index("score_a", a, 12), _index("score_b", b, 12)]
+    return TABLE_C[score_index("score_a", a, 12), score_index("score_b", b, 12)]
 
 
 def reba_part_scores(result: RebaResult, out: np.ndarray | None = None) -> np.ndarray:
