@@ -24,7 +24,8 @@ EXTRA = {"bracket": ROOT / "examples" / "own_workcell" / "bracket_cell.toml"}
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, default=ROOT / "docs" / "img")
-    parser.add_argument("--robots", default="panda,ur5", help="robot models, the first the cells' own")
+    parser.add_argument("--robots", default=",".join(robot_names()),
+                        help="robot models, the first the cells' own (default: every registered one)")
     parser.add_argument("--azimuth", type=float, default=None, help="camera azimuth [deg]")
     parser.add_argument("--elevation", type=float, default=None, help="camera elevation [deg]")
     args = parser.parse_args()

@@ -127,13 +127,16 @@ FAR_ROBOT = ["--set", "scene.robot_base=0.94,-0.5,0.9", "--set", "scene.robots.r
 """The Panda on the bench's far right corner: every piece and the handover pose are out of its reach."""
 
 
-def test_failed_robot_attempts_do_not_count_as_robot_actions(tmp_path):
-    """The same cell run from Python, past the CLI's pre-check: r-only sends the robot every action it may
-    do, each attempt fails as unreachable in the physics, and the robot share stays 0."""
+def test_failed_robot_attempts_do_not_count_as_robot_actions(tmp_path, monkeypatch):
+    """The same cell run from Python, past the CLI's pre-check and with the robot's contract not asked (its
+    refusals would take every action from it before the physics): r-only sends the robot every action it
+    may do, each attempt fails as unreachable in the physics, and the robot share stays 0."""
+    import ergosim.twin.runner as runner  # noqa: PLC0415
     from ergosim.twin.scenario_run import run_scenario  # noqa: PLC0415
     from ergosim.twin.scenariofile import load_scenario  # noqa: PLC0415
     from ergosim.twin.summary_text import summary_text  # noqa: PLC0415
 
+    monkeypatch.setattr(runner, "robot_refusals", lambda task, cell: {})
     scenario = load_scenario("multi-subject", {"subjects": "1", "repetitions": "1", "modes": "r-only",
                                                "scene.robot_base": "0.94,-0.5,0.9",
                                                "scene.robots.robot.support": "bench"})

@@ -92,23 +92,38 @@ def _start_positions(task: AndOrGraph, cell) -> list[tuple[str, np.ndarray]]:
     """(action, where its part lies when the action starts) [m, world], in an order the task allows (its
     optimal plan with the file's costs): a part is where the last earlier action put it, a seated part
     where its host is."""
+    return [(action, start) for action, start, _ in _plan_points(task, cell)]
+
+
+def _plan_points(task: AndOrGraph, cell) -> list[tuple[str, np.ndarray, np.ndarray]]:
+    """(action, where its part lies when it starts, where the action takes it) [m, world] in the task's
+    plan order: a placed part is at its target site, a seated one where its host is; a slot's site moves
+    with its host (its offset turned with the host)."""
     slots = cell.config.slots()
-    at = {p: cell.body_pose(p)[0] for p in cell.parts}
+    pose = {p: cell.body_pose(p) for p in cell.parts}  # (pos, quat wxyz), as laid out
+    start_pose = dict(pose)
     host: dict[str, str] = {}
 
-    def where(part: str) -> np.ndarray:
+    def root(part: str) -> str:
         while part in host:
             part = host[part]
-        return at[part]
+        return part
 
     out = []
     for step in task.plan().steps:
         geom = cell.actions[step.action]
-        out.append((step.action, where(geom.part)))
+        start = pose[root(geom.part)][0]
         if geom.seats:
-            host[geom.part] = slots[cell.config.action(step.action).target].host
+            holder = slots[cell.config.action(step.action).target].host
+            p0, q0 = start_pose[holder]
+            p1, q1 = pose[holder]
+            offset = _mat(q1) @ _mat(q0).T @ (cell.site_pose(geom.target)[0] - p0)
+            end = p1 + offset
+            host[geom.part] = holder
         else:
-            at[geom.part] = cell.site_pose(geom.target)[0]
+            end = cell.site_pose(geom.target)[0]
+            pose[geom.part] = cell.site_pose(geom.target)
+        out.append((step.action, start, end))
     return out
 
 
@@ -139,15 +154,16 @@ def robot_refusals(task: AndOrGraph, cell) -> dict[tuple[str, str], str]:
     for op in task.operations:
         allowed.setdefault(op.action, set()).update(op.agents)
     mass = _carried(task, cell)
-    positions = dict(_start_positions(task, cell))
+    points = {a: (s, e) for a, s, e in _plan_points(task, cell)}
     out = {}
     for action, agents in allowed.items():
         geom = cell.actions[action]
-        end = cell.site_pose(geom.handover or geom.target)[0]
+        start = points[action][0]
+        end = cell.site_pose(geom.handover)[0] if geom.handover else points[action][1]
         for agent in sorted(agents & set(cell.robots)):
             handle = cell.robot(agent)
             shoulder, radius = _reach_sphere(cell, handle)
-            far = [name for name, p in ((geom.part, positions[action]), (geom.handover or geom.target, end))
+            far = [name for name, p in ((geom.part, start), (geom.handover or geom.target, end))
                    if np.linalg.norm(np.asarray(p) - shoulder) > radius]
             width = cell.grip_width(cell.grasp_body(geom.part))
             why = refusal(handle.robot, action, geom.part, width, mass.get(action), not far,
