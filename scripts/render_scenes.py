@@ -14,6 +14,7 @@ from pathlib import Path
 import matplotlib.image
 
 from ergosim.atomic import write_bytes
+from ergosim.robot import robot_names
 from ergosim.scenes.registry import build_scene, scene_names
 from ergosim.scenes.render import render_workcell
 
