@@ -11,9 +11,13 @@ import numpy as np
 import pytest
 
 from ergosim import api
+from ergosim.ergonomics.cost import CostParams
 from ergosim.ergonomics.kwear import kwear_step
 from ergosim.ergonomics.reba import REBA_JOINTS, REBA_PARTS
+from ergosim.ergonomics.risk_index import RiskIndex
+from ergosim.posture import ANGLE_NAMES
 from ergosim.twin.features import REBA_COLUMNS
+from ergosim.twin.modes import Mode, RiskIndexEntry, register_mode, register_risk_index
 from ergosim.twin.records import TICK_COLUMNS
 from ergosim.twin.runner import scenario_subject
 
@@ -96,3 +100,33 @@ def test_without_a_reba_index_ticks_stay_as_they_were(tmp_path):
     summary = json.loads((out / "summary.json").read_text())
     assert "reba_g_by_action" not in summary and "reba_threshold" not in summary["config"]
     assert REBA_PARTS[-1] == "legs"
+
+
+class TrunkAngleIndex(RiskIndex):
+    """A user's index on raw joint angles: the worker's largest trunk flexion so far [deg] / 90, one
+    channel; predict() adds nothing per action. It reads feature ``angles``."""
+
+    features = "angles"
+    joints = ANGLE_NAMES
+    channels = ("trunk",)
+
+    def _advance(self, g, dt, resting):
+        if not resting:
+            self._v[:] = np.maximum(self._v, np.abs(g))
+
+    def predict(self, action):
+        return np.array([self._v[0] / 90.0])
+
+
+def test_an_index_on_joint_angles_reads_the_angles(tmp_path):
+    register_risk_index(RiskIndexEntry(
+        "trunk-angle", lambda ctx: (TrunkAngleIndex(), CostParams(gamma=1.5, v_th=0.9, robot_cost=2.0,
+                                                                  v_max=1.0)),
+        lambda *a: "trunk angle", features="angles"))
+    register_mode(Mode("trunk", "largest trunk flexion", risk_index="trunk-angle"))
+    sc = api.load("multi-subject", modes=["trunk"], subjects=1, repetitions=1, eta_max=2)
+    res = api.run(sc, out=tmp_path / "angles")
+    decisions = [d for run in res.runs("trunk") for d in run.decisions]
+    assert decisions and all(d.reason == "trunk angle" for d in decisions)
+    peak = max(float(np.asarray(d.v_hat[d.action])[0]) for d in decisions)
+    assert 0 < peak < 1  # some trunk flexion, in degrees / 90

@@ -70,6 +70,9 @@ class Plant:
         self.log = TickLog(TICK_COLUMNS + self._extra + tuple(f"kwear_{j}" for j in extra_joints))
         self._feature = kwear.features
         self._m = len(kwear.joints)
+        self.indices: list[RiskIndex] = []
+        """Further risk indices fed every ergonomics tick with their own feature's row (a mode's stateful
+        index other than ``kwear``, e.g. one on joint angles); not logged."""
         self.robot = None
         self.on_grasp = None
         self.on_release = None
@@ -133,6 +136,12 @@ class Plant:
             self.kwear.update(g[k], self.dt_tick)
         else:
             self.kwear.update(self._zero_g, self.dt_tick, resting=True)
+        for index in self.indices:
+            if seg.acting:
+                g = seg.g if index.features == "rula" else seg.g_by[index.features]
+                index.update(g[k], self.dt_tick)
+            else:
+                index.update(np.zeros(len(index.joints)), self.dt_tick, resting=True)
         row = self._row
         row[0] = self.repetition
         row[1] = self.time

@@ -38,8 +38,8 @@ __all__ = ["Mode", "RiskIndexEntry", "IndexContext", "register_mode", "register_
 @dataclasses.dataclass(frozen=True)
 class IndexContext:
     """What a risk-index factory may use: the scenario protocol, the subject's online KWear index on the
-    index's feature (fed by the plant every ergonomics tick) and its calibration on that feature (α, G(a_k),
-    η)."""
+    index's feature (fed by the plant every ergonomics tick; on RULA's part scores for an index on raw
+    angles) and its calibration on that feature (α, G(a_k), η)."""
 
     protocol: object
     kwear: RiskIndex

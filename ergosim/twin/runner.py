@@ -143,7 +143,7 @@ def _calibrate(scenario: Scenario, subject: Subject, rng: np.random.Generator):
     result = cal.run(params, eta0=cfg.eta0, eta_max=cfg.eta_max, v_des=cfg.v_des)
     passes = list(cal.passes)  # the paper's (RULA) passes: what the durations and traces come from
     others = {f: cal.run(params, eta0=cfg.eta0, eta_max=cfg.eta_max, v_des=cfg.v_des, feature=f)
-              for f in features if f != "rula"}
+              for f in features if f != "rula" and feature_spec(f).whole is not None}
     traces = {}
     for action, ex in passes[0].items():
         v = kwear_trajectory(np.zeros(len(KWEAR_JOINTS)), ex.g, ex.dt, params)
@@ -152,8 +152,12 @@ def _calibrate(scenario: Scenario, subject: Subject, rng: np.random.Generator):
 
 
 def _feature_of(mode_name: str) -> str:
+    """The posture feature the mode's online KWear (and its calibration) reads: its index's feature when
+    that is a part score (``rula``, ``reba``); ``rula`` otherwise (an index on raw joint angles runs beside
+    the paper's KWear, which stays what ticks.csv logs)."""
     mode = get_mode(mode_name)
-    return get_risk_index(mode.risk_index).features if mode.risk_index is not None else "rula"
+    f = get_risk_index(mode.risk_index).features if mode.risk_index is not None else "rula"
+    return f if feature_spec(f).whole is not None else "rula"
 
 
 def make_allocator(scenario: Scenario, mode_name: str, rig: Rig, calibration) -> Allocator:
@@ -164,8 +168,10 @@ def make_allocator(scenario: Scenario, mode_name: str, rig: Rig, calibration) ->
     index = cost = None
     if mode.risk_index is not None:
         entry = get_risk_index(mode.risk_index)
-        cal = calibration.get(entry.features) if isinstance(calibration, dict) else calibration
+        cal = calibration.get(_feature_of(mode_name)) if isinstance(calibration, dict) else calibration
         index, cost = entry.build(IndexContext(cfg, rig.plant.kwear, cal))
+        if index is not rig.plant.kwear:
+            rig.plant.indices.append(index)  # a stateful index of its own is fed the plant's ticks too
     return Allocator(rig.graph, mode, index=index, cost=cost, planner=cfg.planner, refused=rig.refused)
 
 
