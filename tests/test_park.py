@@ -30,11 +30,11 @@ def test_every_bundled_cell_parks_its_robot_clear_of_the_head_and_chest(scene, m
     assert measured == pytest.approx(park.clearance, abs=1e-9)
     np.testing.assert_allclose(cell.robot_home("robot"), park.q)
     np.testing.assert_allclose(cell.data.ctrl[cell.robot("robot").arm_ctrl], park.q)
-    if park.met:
-        assert measured >= 0.5
-    else:  # the kwear-validation Panda: its pedestal stands within reach of the worker: its ready pose
-        assert (scene, model) == ("kwear-validation", "panda") and measured < 0.5
-        np.testing.assert_array_equal(park.q, cell.robot("robot").robot.home)
+    wanted = next(r.park_clearance for r in cell.config.robots if r.name == "robot")
+    # every bundled cell keeps 0.5 m but kwear-validation, whose bench stands the Panda 0.505 m from the
+    # chest: 0.45 m there
+    assert wanted == (0.45 if scene == "kwear-validation" else 0.5)
+    assert park.met and measured >= wanted
     # nothing touched: no contact between the robot and anything else at the home keyframe
     mujoco.mj_forward(cell.model, cell.data)
     mine = set(robot_geoms(cell.model, cell.robot("robot").base))
