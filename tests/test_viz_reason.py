@@ -40,3 +40,10 @@ def test_a_single_candidate_and_missing_predictions():
     assert reason(("a5", "human"), v_hat={}, costs=costs) == "a5 → human: only human can do a5"
     costs = {("a3", "human"): 50.0, ("a3", "robot"): 50.0}
     assert reason(("a3", "human"), v_hat={}, costs=costs) == "a3 → human: cost human 50.00 = robot 50.00"
+
+
+def test_kwear_on_reba_part_scores_names_the_legs():
+    v_th = np.full(6, 0.8)  # KWear on REBA's part scores: the five joints and the legs
+    v_hat = {"a2": np.array([0.1, 0.1, 0.2, 0.1, 0.05, 0.85])}
+    assert reason(("a2", "robot"), v_hat=v_hat, v_th=v_th).startswith(
+        "a2 → robot: predicted legs KWear 0.85 ≥ V_th 0.80;")

@@ -11,7 +11,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from ergosim.posture import KWEAR_JOINTS
+from ergosim.ergonomics.reba import REBA_JOINTS
 
 __all__ = ["allocation_reason"]
 
@@ -20,9 +20,9 @@ def allocation_reason(chosen: tuple[str, str], *, v_hat: Mapping[str, np.ndarray
                       costs: Mapping[tuple[str, str], float], v_th: np.ndarray) -> str:
     """E.g. ``"a2 → robot: predicted shoulder KWear 0.83 ≥ V_th 0.80; cost robot 50.00 < worker 100.83"``.
 
-    ``chosen``: (action, agent). ``v_hat``: action -> (5,) predicted KWear in ``KWEAR_JOINTS`` order (the
-    worker doing that action). ``costs``: (action, agent) -> hyper-arc cost of the candidates.
-    ``v_th``: (5,) thresholds.
+    ``chosen``: (action, agent). ``v_hat``: action -> (5,) predicted KWear in ``KWEAR_JOINTS`` order, or (6,)
+    with the legs (KWear on REBA's part scores, ``REBA_JOINTS``), the worker doing that action. ``costs``:
+    (action, agent) -> hyper-arc cost of the candidates. ``v_th``: thresholds of the same shape.
     """
     action, agent = chosen
     parts = [_kwear_clause(v_hat.get(action), np.asarray(v_th, dtype=float))]
@@ -38,7 +38,7 @@ def _kwear_clause(v: np.ndarray | None, v_th: np.ndarray) -> str:
     if not np.any(np.isfinite(margin)):
         return "no KWear prediction"
     i = int(np.nanargmax(margin))
-    joint = KWEAR_JOINTS[i]
+    joint = REBA_JOINTS[i]  # KWEAR_JOINTS, then the legs of KWear on REBA's part scores
     if margin[i] >= 0:
         crossed = int(np.sum(margin >= 0))
         more = f" (+{crossed - 1} more joint{'s' if crossed > 2 else ''})" if crossed > 1 else ""
