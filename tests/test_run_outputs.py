@@ -33,9 +33,9 @@ def _rows(path: Path) -> list[dict]:
 
 def test_forced_robot_actions_count_in_the_robot_share(forced_run):
     """The worker cannot reach L, its a2 attempt fails and the robot does a2 in every repetition: the old
-    robot share said 0 % (0/8); every completed a2 is the robot's. (The run's exit status 0 is asserted
-    by the shared fixture, tests/conftest.py.)"""
+    robot share said 0 % (0/8); every completed a2 is the robot's."""
     out = forced_run.out
+    assert forced_run.code == 0
     m = json.loads((out / "summary.json").read_text())["modes"]["hrc"]
     assert m["repetitions_completed"] == 2
     assert m["forced_robot_actions"] == 2 and m["forced_human_actions"] == 0
@@ -70,6 +70,7 @@ def test_failures_csv_and_the_recording_log_hold_every_failure(forced_run, tmp_p
 
 def test_failures_reach_the_recording_text_log(forced_run):
     """The forced run's two failed a2 attempts (one a repetition) are in the recording's text log."""
+    assert forced_run.code == 0
     _, texts = RecordingReader(forced_run.rrd).texts("allocation/log")
     failed = [t for t in texts if t.startswith("failed:")]
     assert len(failed) == len(_rows(forced_run.out / "failures.csv")) == 2
@@ -163,7 +164,8 @@ def test_plan_done_takes_labels_and_costs_are_what_ifs(capsys):
 
 def test_rrd_subject_and_mode_choose_what_is_recorded(kv_two_subjects):
     """The shared run recorded with --rrd-subject 1 --rrd-mode rula (tests/conftest.py)."""
-    out, rrd = kv_two_subjects
+    out, rrd, code = kv_two_subjects
+    assert code == 0
     rows = [r for r in _rows(out / "ticks.csv") if r["subject"] == "1" and r["mode"] == "rula"]
     t, v = RecordingReader(rrd).scalars("ergonomics/kwear/shoulder")
     np.testing.assert_allclose(t, [float(r["t"]) for r in rows], atol=1e-6)

@@ -107,6 +107,7 @@ def test_robot_rests_the_worker(hrc_run):
 def test_same_seed_same_results_serial_or_parallel(kv_two_subjects, tmp_path):
     """The shared two-subject run (one process, tests/conftest.py) against the same run in two processes."""
     a, b = kv_two_subjects.out, tmp_path / "parallel"
+    assert kv_two_subjects.code == 0
     assert main(["run", "kwear-validation", "--subjects", "2", "--reps", "1", "--jobs", "2", "--quiet",
                  "--out", str(b)]) == 0
     for name in ("summary.json", "allocations.csv", "ticks.csv"):
@@ -142,7 +143,8 @@ def test_cli_error_has_no_traceback_in_a_subprocess(tmp_path):
 
 
 def test_recording_of_a_run_matches_its_ticks_file(kv_run):
-    out, rrd = kv_run  # exit status 0 is asserted by the shared fixture (tests/conftest.py)
+    out, rrd, code = kv_run  # the shared run (tests/conftest.py)
+    assert code == 0
     verify = subprocess.run([sys.executable, "-m", "rerun", "rrd", "verify", str(rrd)], check=False,
                             capture_output=True, text=True)
     assert verify.returncode == 0, verify.stderr

@@ -191,8 +191,9 @@ def _run(out: Path, *extra: str) -> int:
 
 def test_outputs_are_byte_identical_with_and_without_video(kv_run, tmp_path, capsys):
     """Issue 16 proof: the video is made from what the run recorded, after it; no output changes. The plain
-    run is the shared one (tests/conftest.py: these arguments, exit status 0)."""
+    run is the shared one (tests/conftest.py: the same arguments)."""
     plain, filmed = kv_run.out, tmp_path / "filmed"
+    assert kv_run.code == 0
     assert _run(filmed, "--video", str(tmp_path / "run.mp4"), "--video-speed", "40", "--video-size",
                 "320x180", "--video-reps", "1") == 0
     assert "video: " in capsys.readouterr().out

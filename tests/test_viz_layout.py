@@ -29,7 +29,8 @@ ROOT = Path(__file__).resolve().parents[1]
 def recorded(forced_run):
     """A real run with a failure in it (L beyond the worker's reach), recorded: the shared forced run
     (tests/conftest.py)."""
-    return forced_run
+    assert forced_run.code == 0
+    return forced_run.out, forced_run.rrd
 
 
 def _blueprints(rrd: Path) -> list[dict[str, list]]:
