@@ -23,6 +23,14 @@ from ergosim.cli import headless_gl, main
 headless_gl()
 
 
+def pytest_collection_modifyitems(items) -> None:
+    """Files that hold slow tests first, each file's tests in their order: pytest-xdist then starts the long
+    files early and the many short ones fill the workers' last minutes (``--no-loadscope-reorder`` in
+    pyproject.toml keeps this order; xdist's own puts the files with the most tests first)."""
+    slow = {item.path for item in items if item.get_closest_marker("slow")}
+    items.sort(key=lambda item: item.path not in slow)
+
+
 class SharedRun(NamedTuple):
     """A finished ``ergosim run``: its output folder, its rerun recording (None if not recorded) and its
     exit status, which each reader asserts as it did when it made the run itself."""
