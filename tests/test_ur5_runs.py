@@ -9,9 +9,13 @@ from __future__ import annotations
 import csv
 import json
 
+import pytest
+
 from ergosim import api
 from ergosim.cli import main
 from ergosim.robot import get_robot
+
+pytestmark = pytest.mark.slow  # two scenario runs end to end
 
 UR5 = {"scene.robots.robot.model": "ur5"}
 
