@@ -10,6 +10,7 @@ import signal
 import subprocess
 import sys
 import time
+import types
 from pathlib import Path
 
 import matplotlib.image
@@ -21,7 +22,7 @@ from ergosim.cli import main
 from ergosim.errors import ConfigError
 from ergosim.posture import KWEAR_JOINTS
 from ergosim.scenes import build_cell
-from ergosim.twin.runner import run_subject, subject_cell
+from ergosim.twin.runner import run_subject, scenario_subject, subject_cell, subject_session
 from ergosim.twin.scenariofile import load_scenario
 from ergosim.video import (
     FrameInfo,
@@ -32,6 +33,7 @@ from ergosim.video import (
     RunTimeline,
     VideoRequest,
     action_texts,
+    film,
     parse_reps,
     parse_size,
     read_mp4,
@@ -47,7 +49,27 @@ def recorded():
     """One real kwear-validation repetition (hrc) with the body poses kept, and the cell it ran in."""
     sc = load_scenario("kwear-validation", {"repetitions": "1", "modes": "hrc"})
     res = run_subject(sc, 0, 0, ("hrc",), record_mode="hrc")
-    return sc, res.runs["hrc"], subject_cell(sc, make_subjects(1, 0)[0])
+    return sc, res.runs["hrc"], subject_cell(sc, scenario_subject(sc, 0, 0))
+
+
+def test_the_filmed_subject_is_the_simulated_one(recorded, monkeypatch, tmp_path):
+    """A video shows the body the run simulated. kwear-validation's population is all women
+    (female_fraction = 1) at its own pace; a subject drawn with the population defaults is someone else."""
+    sc, run, _ = recorded
+    filmed = {}
+
+    def capture(cell, run, request, **_kw):
+        filmed["cell"] = cell
+
+    monkeypatch.setattr(film, "write_run_video", capture)
+    result = types.SimpleNamespace(subject=0, name="S01", runs={"hrc": run})
+    film.film_subject(sc, 0, result, VideoRequest(tmp_path / "run.mp4", mode="hrc"))
+    simulated = subject_session(sc, 0, 0, "h-only", calibrate=False).cell.model
+    model = filmed["cell"].model
+    assert np.array_equal(model.body_pos, simulated.body_pos) and np.array_equal(model.geom_size,
+                                                                                 simulated.geom_size)
+    default = subject_cell(sc, make_subjects(1, 0)[0]).model  # the body the video showed before the fix
+    assert not np.array_equal(default.body_pos, simulated.body_pos)
 
 
 def test_pose_renderer_draws_what_mujoco_draws_from_the_live_state():
