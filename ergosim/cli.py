@@ -53,7 +53,7 @@ def main(argv: list[str] | None = None) -> int:
     except ErgosimError as err:
         print(f"ergosim: error: {err}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt as err:  # Ctrl-C, or SIGTERM during a run (ergosim.twin.interrupt)
+    except KeyboardInterrupt as err:  # Ctrl-C, or SIGTERM during a run (ergosim.experiment.interrupt)
         signum = getattr(err, "signum", 2)
         print(f"ergosim: interrupted{' by SIGTERM' if signum == 15 else ''}", file=sys.stderr)
         return 128 + signum

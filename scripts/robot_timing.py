@@ -6,7 +6,7 @@
 Runs one r-only repetition per subject in the real loop and prints, per action, its duration and the
 robot's transit, contact-critical, gripper, waiting-at-the-handover and way-home times.
 ``--sensitivity`` repeats it with the transit speed at -10 % and +10 %. The logic lives in
-ergosim.twin.robot_timing.
+ergosim.experiment.robot_timing.
 """
 
 from __future__ import annotations
@@ -14,9 +14,9 @@ from __future__ import annotations
 import argparse
 
 from ergosim.atomic import write_json
+from ergosim.experiment.robot_timing import format_summary, robot_only_runs, timing_summary
+from ergosim.experiment.scenario import load_scenario
 from ergosim.overrides import parse_assignments
-from ergosim.twin.robot_timing import format_summary, robot_only_runs, timing_summary
-from ergosim.twin.scenariofile import load_scenario
 
 
 def main() -> None:

@@ -14,8 +14,8 @@ from own_product import write_product
 
 from ergosim import api
 from ergosim.cli import main
+from ergosim.experiment import scenario as scenariofile
 from ergosim.plugins import extension_modules
-from ergosim.twin import scenariofile
 
 
 def test_a_new_mode_and_risk_index_are_registered_by_importing_one_module():

@@ -9,11 +9,11 @@ from pathlib import Path
 import pytest
 
 from ergosim.cli import main
+from ergosim.experiment.scenario import load_scenario
 from ergosim.fidelity import FULL_BOUNDS, QUICK, Runs, fidelity_rows, paper
 from ergosim.fidelity.checks import table1_of
 from ergosim.fidelity.pace import PaceRow, calibrated_pace
 from ergosim.fidelity.sensitivity import PARAMETERS, scaled_overrides
-from ergosim.twin.scenariofile import load_scenario
 
 
 def _kv_summary(hrc: tuple[str, ...], rula: str = "HHHHH", g=None, joints=None) -> dict:

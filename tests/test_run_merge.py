@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 
 from ergosim.cli import main
+from ergosim.experiment.report import summarise
+from ergosim.experiment.subject_records import RunRecord, SubjectRecord, read_records, write_records
 from ergosim.twin.records import TICK_COLUMNS, Allocation, Failure, RepetitionOutcome, SubjectRun, TickLog
-from ergosim.twin.report import summarise
-from ergosim.twin.subject_records import RunRecord, SubjectRecord, read_records, write_records
 
 RUN = ["run", "multi-subject", "--subjects", "3", "--reps", "1", "--jobs", "1", "--quiet", "--set",
        "eta_max=2"]

@@ -11,9 +11,9 @@ from own_product import write_product
 
 from ergosim.cli import main
 from ergosim.errors import ErgosimError
+from ergosim.experiment.scenario import load_scenario
 from ergosim.scenes import cell_document
 from ergosim.scenes.cellfile import cell_keys
-from ergosim.twin.scenariofile import load_scenario
 
 # The names README and earlier releases gave (`ergosim run ... --set scene.NAME=...`), per paper cell.
 PAPER_NAMES = {

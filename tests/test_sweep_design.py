@@ -14,10 +14,10 @@ import ergosim.sweep as sweep_pkg
 import ergosim.sweep.units as units_mod
 from ergosim.cli import main
 from ergosim.errors import ConfigError
+from ergosim.experiment.scenario import scenario_path
 from ergosim.sweep.design import MAX_CELLS, load_sweep, set_string
 from ergosim.sweep.fingerprint import code_fingerprint
 from ergosim.sweep.units import plan_units, unit_id
-from ergosim.twin.scenariofile import scenario_path
 
 ROOT = Path(__file__).resolve().parents[1]
 MODULES = ["design", "units", "executors", "folder", "tables", "stats", "plots", "runner", "metrics",

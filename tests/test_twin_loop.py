@@ -15,10 +15,10 @@ import numpy as np
 import pytest
 
 from ergosim.cli import main
+from ergosim.experiment.runner import run_subject
+from ergosim.experiment.scenario import load_scenario
+from ergosim.experiment.scenario_run import run_scenario
 from ergosim.posture import KWEAR_JOINTS
-from ergosim.twin.runner import run_subject
-from ergosim.twin.scenario_run import run_scenario
-from ergosim.twin.scenariofile import load_scenario
 from ergosim.viz import RecordingReader
 
 

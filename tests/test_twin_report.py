@@ -9,9 +9,15 @@ import numpy as np
 import pytest
 
 from ergosim.errors import ConfigError
+from ergosim.experiment.report import (
+    summarise,
+    wilcoxon_between,
+    write_allocations,
+    write_summary,
+    write_ticks,
+)
+from ergosim.experiment.scenario import scenario_config
 from ergosim.twin.records import TICK_COLUMNS, Allocation, SubjectRun, TickLog
-from ergosim.twin.report import summarise, wilcoxon_between, write_allocations, write_summary, write_ticks
-from ergosim.twin.scenariofile import scenario_config
 
 
 def _run(subject: int, mode: str, agents: list[str], kwear_level: float) -> SubjectRun:

@@ -5,11 +5,11 @@ import pytest
 
 from ergosim.cli import main
 from ergosim.errors import ConfigError
+from ergosim.experiment.robot_timing import robot_only_runs, timing_summary
+from ergosim.experiment.runner import build_rig
+from ergosim.experiment.scenario import load_scenario, scenario_config
 from ergosim.robot.status import SKILL_PHASES
-from ergosim.twin.robot_timing import robot_only_runs, timing_summary
 from ergosim.twin.robot_track import RobotTrack
-from ergosim.twin.runner import build_rig
-from ergosim.twin.scenariofile import load_scenario, scenario_config
 from ergosim.worker.subjects import make_subjects
 
 

@@ -20,10 +20,11 @@ import pytest
 
 from ergosim.cli import main
 from ergosim.errors import ConfigError
+from ergosim.experiment import film
+from ergosim.experiment.runner import run_subject, scenario_subject, subject_cell, subject_session
+from ergosim.experiment.scenario import load_scenario
 from ergosim.posture import KWEAR_JOINTS
 from ergosim.scenes import build_cell
-from ergosim.twin.runner import run_subject, scenario_subject, subject_cell, subject_session
-from ergosim.twin.scenariofile import load_scenario
 from ergosim.video import (
     FrameInfo,
     Mp4Writer,
@@ -33,7 +34,6 @@ from ergosim.video import (
     RunTimeline,
     VideoRequest,
     action_texts,
-    film,
     parse_reps,
     parse_size,
     read_mp4,
@@ -279,7 +279,8 @@ def test_sigterm_while_filming_keeps_the_results_and_leaves_no_partial_video(tmp
     assert not [p for p in tmp_path.iterdir() if p.name not in ("out",)]  # no run.mp4, no .tmp.mp4
 
 
-@pytest.mark.parametrize("package", ["ergosim.video", "ergosim.twin.plots"])
+@pytest.mark.parametrize("package", ["ergosim.video", "ergosim.experiment.plots", "ergosim.experiment",
+                                     "ergosim.twin"])
 def test_every_public_name_exists(package):
     module = importlib.import_module(package)
     assert module.__all__

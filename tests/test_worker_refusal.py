@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from ergosim.twin.negotiation import Negotiator
-from ergosim.twin.scenario import ScenarioConfig
+from ergosim.twin.protocol import ScenarioConfig
 from ergosim.twin.team_setup import refusal_model
 from ergosim.worker.refusal import RefusalModel
 

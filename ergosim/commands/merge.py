@@ -27,10 +27,10 @@ def add_parser(sub) -> argparse.ArgumentParser:
 
 
 def run(args) -> int:
-    from ergosim.twin.run_merge import merge_runs  # noqa: PLC0415 - keep `ergosim --help` fast
-    from ergosim.twin.scenario import ScenarioConfig  # noqa: PLC0415
-    from ergosim.twin.scenario_run import EXIT_ABANDONED  # noqa: PLC0415
-    from ergosim.twin.summary_text import summary_text  # noqa: PLC0415
+    from ergosim.experiment.run_merge import merge_runs  # noqa: PLC0415 - keep `ergosim --help` fast
+    from ergosim.experiment.scenario_run import EXIT_ABANDONED  # noqa: PLC0415
+    from ergosim.experiment.summary_text import summary_text  # noqa: PLC0415
+    from ergosim.twin.protocol import ScenarioConfig  # noqa: PLC0415
 
     result = merge_runs([Path(d) for d in args.dirs], Path(args.out))
     if not args.quiet:

@@ -5,7 +5,7 @@ ergosim plan corner-joint[:multi-subject|:kwear-validation] [--state kwear_state
 ergosim plan TASK [--costs human.a2=3.1,robot.a3=0.5]
 ergosim plan --generate sequential:N|scarce:N --agents K [--seed S] [--json]
 
-``--state`` takes a KWear state file as ``ergosim run`` writes it (:mod:`ergosim.twin.kwear_state`): the
+``--state`` takes a KWear state file as ``ergosim run`` writes it (:mod:`ergosim.experiment.kwear_state`): the
 worker's KWear V and calibrated α. Every human hyper-arc of a remaining action is then priced with eq. 9-11
 (V̂ = 1 − α(1 − V); c = Σ_i V̂_i + Γ [V̂_i ≥ V_th]) and every robot hyper-arc with the run's c_r, which is the
 allocation the twin would make from that state. ``--costs`` overrides single (agent, action) costs after
@@ -153,7 +153,7 @@ def parse_costs(text: str, graph: AndOrGraph) -> dict[tuple[str, str], float]:
 
 def state_costs_for(graph: AndOrGraph, path: str, done: list[str]) -> dict[tuple[str, str], float]:
     """Costs of eq. 9-11 from the KWear state file ``path`` for the actions not yet done."""
-    from ergosim.twin.kwear_state import read_state, state_costs  # noqa: PLC0415
+    from ergosim.experiment.kwear_state import read_state, state_costs  # noqa: PLC0415
 
     state = read_state(path)
     humans = [a.name for a in graph.agents if a.kind == "human"]

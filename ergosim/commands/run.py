@@ -22,8 +22,8 @@ __all__ = ["add_parser", "run", "subject_range"]
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
+    from ergosim.experiment.scenario import scenario_names  # noqa: PLC0415
     from ergosim.twin.modes import mode_names  # noqa: PLC0415 - keep `ergosim --help` fast
-    from ergosim.twin.scenariofile import scenario_names  # noqa: PLC0415
 
     p = sub.add_parser(
         "run", help="run a scenario (a bundled one by name, or a scenario file) headless",
@@ -62,7 +62,7 @@ def add_parser(sub) -> argparse.ArgumentParser:
 
 
 def _scenario(args):
-    from ergosim.twin.scenariofile import load_scenario  # noqa: PLC0415
+    from ergosim.experiment.scenario import load_scenario  # noqa: PLC0415
 
     own = parse_assignments(args.assign)
     if args.seed < 0:
@@ -126,14 +126,14 @@ def _in_shard(subjects: range, n: int, **chosen) -> None:
 
 def _precheck(scenario) -> None:
     """Refuse a run certain to fail before any subject starts (reachability of every action)."""
-    from ergosim.twin.scenario_check import precheck  # noqa: PLC0415
+    from ergosim.experiment.scenario_check import precheck  # noqa: PLC0415
 
     precheck(scenario)
 
 
 def run(args) -> int:
-    from ergosim.twin.scenario_run import EXIT_ABANDONED, run_scenario  # noqa: PLC0415
-    from ergosim.twin.summary_text import summary_text  # noqa: PLC0415
+    from ergosim.experiment.scenario_run import EXIT_ABANDONED, run_scenario  # noqa: PLC0415
+    from ergosim.experiment.summary_text import summary_text  # noqa: PLC0415
     from ergosim.viz import open_recording  # noqa: PLC0415
 
     scenario, subjects = _scenario(args)

@@ -31,9 +31,9 @@ import tempfile
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
+from ergosim.experiment.scenario import load_scenario
+from ergosim.experiment.scenario_run import run_scenario
 from ergosim.fidelity.checks import table1_of
-from ergosim.twin.scenario_run import run_scenario
-from ergosim.twin.scenariofile import load_scenario
 
 __all__ = ["PaceRow", "first_robot_repetition", "pace_scan", "calibrated_pace", "h_only_band"]
 

@@ -20,10 +20,10 @@ import statistics
 from collections.abc import Callable
 from pathlib import Path
 
+from ergosim.experiment.scenario import load_scenario
 from ergosim.fidelity.checks import Bounds, fidelity_rows, robot_only_time
 from ergosim.fidelity.experiments import Plan, Runs, run_experiments
 from ergosim.scenes import parse_cell
-from ergosim.twin.scenariofile import load_scenario
 
 __all__ = ["PARAMETERS", "SensitivityRow", "scaled_overrides", "run_sensitivity"]
 

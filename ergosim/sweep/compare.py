@@ -65,7 +65,7 @@ def read_folder(path: str | Path) -> Folder:
 
 
 def _run_folder(path: Path) -> Folder:
-    from ergosim.twin.subject_records import read_records  # noqa: PLC0415
+    from ergosim.experiment.subject_records import read_records  # noqa: PLC0415
 
     header, records = read_records(path / "subject_records.json")
     actions = tuple(sorted(records[0].alphas)) if records else ()

@@ -24,9 +24,9 @@ from pathlib import Path
 from typing import Any
 
 from ergosim.errors import ConfigError, ErgosimError
+from ergosim.experiment.interrupt import quiet_worker, signals_ignored, stop_pool
 from ergosim.plugins import extension_modules
 from ergosim.sweep.units import Unit, failed_document, run_unit
-from ergosim.twin.interrupt import quiet_worker, signals_ignored, stop_pool
 
 __all__ = ["Executor", "LocalExecutor", "RayExecutor", "SweepError", "make_executor", "EXECUTORS"]
 

@@ -20,13 +20,13 @@ from typing import Any
 
 from tqdm import tqdm
 
+from ergosim.experiment.interrupt import interrupt_on_signals, stop_reason
 from ergosim.sweep.executors import make_executor
 from ergosim.sweep.folder import SweepFolder
 from ergosim.sweep.plots import write_sweep_plots
 from ergosim.sweep.stats import cell_statistics
 from ergosim.sweep.tables import allocations_table, results_table, write_parquet
 from ergosim.sweep.units import Unit, plan_units
-from ergosim.twin.interrupt import interrupt_on_signals, stop_reason
 
 __all__ = ["SweepResult", "run_sweep", "CONSOLIDATE_EVERY", "EXIT_INCOMPLETE"]
 

@@ -1,8 +1,8 @@
 """Work units of a sweep: one (cell, subject, mode, seed) simulation each, identified by what determines it.
 
-A unit runs :func:`~ergosim.twin.runner.run_subject` for one subject and one mode, with the mode's random
-stream of the whole run (its slot), so a unit equals that subject and mode in ``ergosim run`` of the same
-cell. Its id is a hash of everything its result depends on (the resolved scenario: protocol, task,
+A unit runs :func:`~ergosim.experiment.runner.run_subject` for one subject and one mode, with the mode's
+random stream of the whole run (its slot), so a unit equals that subject and mode in ``ergosim run`` of the
+same cell. Its id is a hash of everything its result depends on (the resolved scenario: protocol, task,
 workcell and overrides; subject, seed, mode, slot; the ergosim version and the code's fingerprint), so a
 re-run over the same folder finds the units already done even after the sweep file grew, and never takes
 a unit of another study, or of other code, for one of this. :func:`run_unit` never raises for a failed
@@ -24,11 +24,11 @@ from typing import Any
 
 from ergosim import __version__
 from ergosim.errors import ErgosimError
+from ergosim.experiment.scenario import Scenario
+from ergosim.experiment.subject_records import RunRecord
 from ergosim.plugins import import_extensions
 from ergosim.sweep.fingerprint import code_fingerprint
 from ergosim.sweep.metrics import unit_metrics
-from ergosim.twin.scenariofile import Scenario
-from ergosim.twin.subject_records import RunRecord
 
 __all__ = ["Unit", "UNIT_FORMAT", "UNIT_STATUSES", "ALLOCATION_FIELDS", "unit_scenario", "unit_id",
            "plan_units", "run_unit", "failed_document"]
@@ -95,9 +95,9 @@ def run_unit(scenario: Scenario, unit: Unit, actions: Sequence[str],
     """Simulate ``unit`` of the cell ``scenario``; the unit's document (JSON-ready), failed or not.
     ``extensions``: the modules that registered modes, indices or kinds in the driver
     (:func:`ergosim.plugins.extension_modules`), imported first in a worker process."""
+    from ergosim.experiment.runner import run_subject  # noqa: PLC0415
+    from ergosim.experiment.scenario_check import check_reachability  # noqa: PLC0415
     from ergosim.scenes import build_cell  # noqa: PLC0415 - heavy imports stay in the worker
-    from ergosim.twin.runner import run_subject  # noqa: PLC0415
-    from ergosim.twin.scenario_check import check_reachability  # noqa: PLC0415
 
     start = time.perf_counter()
     doc = failed_document(unit, "")

@@ -1,7 +1,7 @@
 """What one simulated subject produces: allocation decisions and per-tick ergonomics.
 
 These are plain data, filled by the loop (:mod:`ergosim.twin.loop`) and consumed by the report
-(:mod:`ergosim.twin.report`) and the recorder; nothing here runs the simulation.
+(:mod:`ergosim.experiment.report`) and the recorder; nothing here runs the simulation.
 """
 
 from __future__ import annotations

@@ -166,7 +166,7 @@ def team_document(cfg, runs_by_mode: Mapping[str, Sequence[SubjectRun]]) -> dict
 def team_in_summary(cfg, runs_by_mode: Mapping[str, Sequence[SubjectRun]]) -> bool:
     """Whether the run writes ``team.json`` and ``summary.json`` carries the team figures: when a team
     setting departs from the paper's protocol or the robots were monitored. A paper protocol's outputs
-    stay as they were (and its shards merge, :mod:`ergosim.twin.run_merge`); :func:`team_document` gives
+    stay as they were (and its shards merge, :mod:`ergosim.experiment.run_merge`); :func:`team_document` gives
     the same figures of any runs in memory (``scripts/team_study.py`` for the sequential baseline)."""
     return "execution" in cfg.record() or any(r.safety is not None for runs in runs_by_mode.values()
                                              for r in runs)

@@ -1,7 +1,7 @@
 """Scenario files: read one, resolve its task and workcell, apply overrides, and register scenarios by name.
 
 A :class:`Scenario` is everything a run needs, resolved and checked before any physics: the protocol
-(:class:`~ergosim.twin.scenario.ScenarioConfig`), the task's TOML text and the workcell document, with
+(:class:`~ergosim.twin.protocol.ScenarioConfig`), the task's TOML text and the workcell document, with
 the workcell overrides kept apart so each subject's workcell can add its own body to them. It is plain
 data, so it travels to worker processes as it is.
 """
@@ -24,7 +24,7 @@ from ergosim.planner.task_overrides import apply_task_overrides
 from ergosim.plugins import note_caller
 from ergosim.scenes import CellSpec, apply_cell_overrides, cell_document, parse_cell
 from ergosim.scenes.cellfile import read_toml
-from ergosim.twin.scenario import ScenarioConfig
+from ergosim.twin.protocol import ScenarioConfig
 
 __all__ = ["Scenario", "register_scenario", "scenario_names", "scenario_path", "scenario_info",
            "load_scenario", "scenario_config", "split_overrides"]
@@ -130,7 +130,7 @@ class Scenario:
         new = dataclasses.replace(new, protocol=protocol,
                                   cell_overrides={**dict(new.cell_overrides), **groups["cell"]})
         if new is not self and (groups["cell"] or groups["task"] or groups["refs"]):
-            from ergosim.twin.scenario_check import check_scenario  # noqa: PLC0415
+            from ergosim.experiment.scenario_check import check_scenario  # noqa: PLC0415
 
             check_scenario(new, new.task(), new.cell())  # a bad key or value fails now, before any physics
         return new
@@ -235,7 +235,7 @@ def load_scenario(name_or_path: str | os.PathLike[str],
     cfg.validate(where=f"{source}: protocol")
     scenario = Scenario(name=name, source=source, protocol=cfg, task_doc=task_doc, task_source=task_source,
                         cell_doc=cell_doc, cell_source=cell_source)
-    from ergosim.twin.scenario_check import check_scenario  # noqa: PLC0415
+    from ergosim.experiment.scenario_check import check_scenario  # noqa: PLC0415
 
     check_scenario(scenario, scenario.task(), cell)
     return scenario.with_overrides(overrides) if overrides else scenario

@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from ergosim.twin.runner import SubjectResult, scenario_subject, subject_cell
-from ergosim.twin.scenariofile import Scenario
+from ergosim.experiment.runner import SubjectResult, scenario_subject, subject_cell
+from ergosim.experiment.scenario import Scenario
 from ergosim.video.run_video import VideoRequest, VideoStats, write_run_video
 
 __all__ = ["film_subject"]

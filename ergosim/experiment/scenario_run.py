@@ -1,11 +1,11 @@
 """Run a whole scenario: subjects in parallel processes, results written atomically as they arrive.
 
 Every subject is an independent job seeded by ``(seed, subject)``, so ``--jobs`` changes the wall time,
-never the results. The run owns its folder (:mod:`ergosim.twin.run_folder`): ``run.json`` is written before
-the first tick. After each finished subject ``summary.json``, ``allocations.csv`` and ``failures.csv`` are
-rewritten (atomically); ``ticks.csv``, the KWear state files and the plots are written at the end. If the
-run is interrupted (Ctrl-C or SIGTERM) or fails, everything finished so far is written with
-``"complete": false``; a run in which a repetition was abandoned is ``"complete": false`` too.
+never the results. The run owns its folder (:mod:`ergosim.experiment.run_folder`): ``run.json`` is written
+before the first tick. After each finished subject ``summary.json``, ``allocations.csv`` and
+``failures.csv`` are rewritten (atomically); ``ticks.csv``, the KWear state files and the plots are
+written at the end. If the run is interrupted (Ctrl-C or SIGTERM) or fails, everything finished so far
+is written with ``"complete": false``; a run in which a repetition was abandoned is ``"complete": false`` too.
 """
 
 from __future__ import annotations
@@ -18,26 +18,26 @@ import time
 from pathlib import Path
 
 from ergosim.atomic import write_json
-from ergosim.plugins import extension_modules, import_extensions
-from ergosim.twin.interrupt import (
+from ergosim.experiment.interrupt import (
     interrupt_on_signals,
     quiet_worker,
     signals_ignored,
     stop_pool,
     stop_reason,
 )
-from ergosim.twin.kwear_state import state_document
-from ergosim.twin.plots import write_plots
-from ergosim.twin.progress import Progress
-from ergosim.twin.recording import record_run
-from ergosim.twin.report import write_action_traces, write_subjects, write_summary, write_ticks
-from ergosim.twin.run_folder import RunFolder
-from ergosim.twin.run_summary import summary_of, write_record_files
-from ergosim.twin.runner import SubjectResult, run_subject, scenario_subject, subject_cell
-from ergosim.twin.scenario import ScenarioConfig
-from ergosim.twin.scenariofile import Scenario
-from ergosim.twin.subject_records import SubjectRecord
-from ergosim.twin.team_metrics import team_document, team_in_summary
+from ergosim.experiment.kwear_state import state_document
+from ergosim.experiment.plots import write_plots
+from ergosim.experiment.recording import record_run
+from ergosim.experiment.report import write_action_traces, write_subjects, write_summary, write_ticks
+from ergosim.experiment.run_folder import RunFolder
+from ergosim.experiment.run_summary import summary_of, write_record_files
+from ergosim.experiment.runner import SubjectResult, run_subject, scenario_subject, subject_cell
+from ergosim.experiment.scenario import Scenario
+from ergosim.experiment.subject_records import SubjectRecord
+from ergosim.experiment.team_metrics import team_document, team_in_summary
+from ergosim.plugins import extension_modules, import_extensions
+from ergosim.progress import Progress
+from ergosim.twin.protocol import ScenarioConfig
 
 __all__ = ["run_scenario", "ScenarioResult", "EXIT_ABANDONED"]
 
@@ -48,7 +48,7 @@ EXIT_ABANDONED = 3
 class ScenarioResult:
     """Subject results in subject order, the summary dict, and where the files are.
 
-    ``status``: ``complete`` or ``abandoned`` (see :mod:`ergosim.twin.run_folder`)."""
+    ``status``: ``complete`` or ``abandoned`` (see :mod:`ergosim.experiment.run_folder`)."""
 
     def __init__(self, results: list[SubjectResult], summary: dict, out: Path, wall: float,
                  status: str = "complete", video=None) -> None:
@@ -95,7 +95,8 @@ def _write(out: Path, name: str, seed: int, cfg: ScenarioConfig, results: list[S
 
 
 def _write_states(out: Path, name: str, seed: int, cfg: ScenarioConfig, results: list[SubjectResult]) -> None:
-    """kwear_state_s<subject>_<mode>.json: the KWear state each run ended with (ergosim.twin.kwear_state)."""
+    """kwear_state_s<subject>_<mode>.json: the KWear state each run ended with
+    (:mod:`ergosim.experiment.kwear_state`)."""
     for r in results:
         params = r.kwear_params
         for mode, run in r.runs.items():
@@ -124,7 +125,7 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
     these subjects of the population (a shard, ``ergosim run --subject-range``; default all), each seeded
     as in the whole run. SIGINT and SIGTERM stop the run the same way: the finished subjects are written,
     then
-    :class:`~ergosim.twin.interrupt.Interrupted` propagates.
+    :class:`~ergosim.experiment.interrupt.Interrupted` propagates.
     """
     name, cfg = scenario.name, scenario.protocol
     out = Path(out)
@@ -198,7 +199,7 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
     filmed = None
     chosen = [r for r in results if video is not None and r.subject == video.subject]
     if chosen:
-        from ergosim.video.film import film_subject  # noqa: PLC0415 - only videos need the renderer
+        from ergosim.experiment.film import film_subject  # noqa: PLC0415 - only videos need the renderer
 
         with interrupt_on_signals():  # SIGTERM too leaves no half-written video
             filmed = film_subject(scenario, seed, chosen[0], video, progress=progress)

@@ -13,6 +13,7 @@ import numpy as np
 from ergosim.ergonomics.kwear import KWearParams, kwear_trajectory
 from ergosim.ergonomics.risk_index import KWearIndex
 from ergosim.errors import ConfigError
+from ergosim.experiment.scenario import Scenario
 from ergosim.posture import KWEAR_JOINTS
 from ergosim.scenes import Workcell, build_cell
 from ergosim.twin.allocator import Allocator
@@ -22,7 +23,6 @@ from ergosim.twin.loop import Plant
 from ergosim.twin.modes import IndexContext, get_mode, get_risk_index
 from ergosim.twin.records import SubjectRun
 from ergosim.twin.robot_track import RobotTrack
-from ergosim.twin.scenariofile import Scenario
 from ergosim.twin.session import Session
 from ergosim.twin.team_setup import make_session
 from ergosim.twin.worker_track import WorkerTrack

@@ -12,9 +12,9 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from ergosim.twin.calibration_summary import calibration_summary
-from ergosim.twin.report import summarise, write_allocations, write_failures
-from ergosim.twin.subject_records import RECORDS_FILE, SubjectRecord, write_records
+from ergosim.experiment.calibration_summary import calibration_summary
+from ergosim.experiment.report import summarise, write_allocations, write_failures
+from ergosim.experiment.subject_records import RECORDS_FILE, SubjectRecord, write_records
 
 __all__ = ["summary_of", "write_record_files"]
 

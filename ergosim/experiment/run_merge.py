@@ -3,7 +3,7 @@
 Each shard keeps what its summary is computed from (``subject_records.json``). The merge checks that the
 shards are finished runs of the same scenario, seed and protocol with disjoint subjects that join into
 one contiguous range, then recomputes every statistic from the joined records through the same code a
-run uses (:mod:`ergosim.twin.run_summary`): shards that cover every subject give the unsharded
+run uses (:mod:`ergosim.experiment.run_summary`): shards that cover every subject give the unsharded
 ``summary.json``, ``allocations.csv``, ``failures.csv``, ``subjects.csv`` and ``subject_records.json``
 byte for byte. ``ticks.csv`` and ``kwear_actions.csv`` are joined line by line in the run's order, the
 KWear state files are copied, and the figures are drawn again from the merged files, as
@@ -20,11 +20,11 @@ from pathlib import Path
 
 from ergosim.atomic import atomic_open, write_bytes
 from ergosim.errors import ConfigError
-from ergosim.twin.plots import write_plots
-from ergosim.twin.report import write_subjects, write_summary
-from ergosim.twin.run_folder import MANIFEST, RunFolder
-from ergosim.twin.run_summary import summary_of, write_record_files
-from ergosim.twin.subject_records import RECORDS_FILE, SubjectRecord, read_records
+from ergosim.experiment.plots import write_plots
+from ergosim.experiment.report import write_subjects, write_summary
+from ergosim.experiment.run_folder import MANIFEST, RunFolder
+from ergosim.experiment.run_summary import summary_of, write_record_files
+from ergosim.experiment.subject_records import RECORDS_FILE, SubjectRecord, read_records
 
 __all__ = ["Shard", "MergeResult", "read_shard", "merge_runs"]
 
