@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from ergosim.cli import main
+from ergosim.experiment.csv_files import SUBJECT_COLUMNS
 from ergosim.experiment.plots import (
     actions_figure,
     allocation_figure,
@@ -24,7 +25,6 @@ from ergosim.experiment.plots import (
     read_ticks,
     timeline_figure,
 )
-from ergosim.experiment.report import SUBJECT_COLUMNS
 from ergosim.posture import KWEAR_JOINTS
 
 

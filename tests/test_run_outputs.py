@@ -13,9 +13,10 @@ import pytest
 
 from ergosim.cli import main
 from ergosim.ergonomics.kwear import predict
+from ergosim.experiment.csv_files import ALLOCATION_COLUMNS, FAILURE_COLUMNS
 from ergosim.experiment.kwear_state import read_state
-from ergosim.experiment.report import ALLOCATION_COLUMNS, FAILURE_COLUMNS, summarise
 from ergosim.experiment.scenario import load_scenario, scenario_config
+from ergosim.experiment.summary import summarise
 from ergosim.experiment.summary_text import summary_text
 from ergosim.posture import HUMAN_JOINTS, KWEAR_JOINTS
 from ergosim.twin.records import Allocation, Failure, RepetitionOutcome, SubjectRun, TickLog

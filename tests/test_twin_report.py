@@ -8,15 +8,11 @@ import json
 import numpy as np
 import pytest
 
+from ergosim.atomic import write_json
 from ergosim.errors import ConfigError
-from ergosim.experiment.report import (
-    summarise,
-    wilcoxon_between,
-    write_allocations,
-    write_summary,
-    write_ticks,
-)
+from ergosim.experiment.csv_files import write_allocations, write_ticks
 from ergosim.experiment.scenario import scenario_config
+from ergosim.experiment.summary import summarise, wilcoxon_between
 from ergosim.twin.records import TICK_COLUMNS, Allocation, SubjectRun, TickLog
 
 
@@ -67,7 +63,7 @@ def test_allocation_table_and_files(tmp_path):
     summary = summarise("kwear-validation", 0, runs, actions=["a1", "a2", "a3", "a4", "a5"])
     assert summary["allocation_table"]["kwear"] == [["H", "R", "H", "H", "R"]] * 2
     assert summary["allocation_table"]["rula"] == [["H"] * 5] * 2
-    write_summary(tmp_path / "summary.json", summary)
+    write_json(tmp_path / "summary.json", summary)
     assert json.loads((tmp_path / "summary.json").read_text())["seed"] == 0
     write_allocations(tmp_path / "allocations.csv", runs["hrc"][0].allocations)
     rows = list(csv.DictReader((tmp_path / "allocations.csv").open()))

@@ -2,10 +2,11 @@
 
 Every subject is an independent job seeded by ``(seed, subject)``, so ``--jobs`` changes the wall time,
 never the results. The run owns its folder (:mod:`ergosim.experiment.run_folder`): ``run.json`` is written
-before the first tick. After each finished subject ``summary.json``, ``allocations.csv`` and
-``failures.csv`` are rewritten (atomically); ``ticks.csv``, the KWear state files and the plots are
-written at the end. If the run is interrupted (Ctrl-C or SIGTERM) or fails, everything finished so far
-is written with ``"complete": false``; a run in which a repetition was abandoned is ``"complete": false`` too.
+before the first tick. The files are the outputs of :mod:`ergosim.experiment.outputs`: after each finished
+subject those rewritten each time (``summary.json``, ``allocations.csv``, ``failures.csv``, ...), at the
+end all of them (``ticks.csv``, the KWear state files, the plots, ...), each atomically. If the run is
+interrupted (Ctrl-C or SIGTERM) or fails, everything finished so far is written with ``"complete":
+false``; a run in which a repetition was abandoned is ``"complete": false`` too.
 """
 
 from __future__ import annotations
@@ -17,7 +18,6 @@ import os
 import time
 from pathlib import Path
 
-from ergosim.atomic import write_json
 from ergosim.experiment.interrupt import (
     interrupt_on_signals,
     quiet_worker,
@@ -25,15 +25,13 @@ from ergosim.experiment.interrupt import (
     stop_pool,
     stop_reason,
 )
-from ergosim.experiment.kwear_state import state_document
-from ergosim.experiment.plots import write_plots
+from ergosim.experiment.outputs import Products, write_outputs
 from ergosim.experiment.recording import record_run
-from ergosim.experiment.report import write_action_traces, write_subjects, write_summary, write_ticks
 from ergosim.experiment.run_folder import RunFolder
-from ergosim.experiment.run_summary import summary_of, write_record_files
 from ergosim.experiment.runner import SubjectResult, run_subject, scenario_subject, subject_cell
 from ergosim.experiment.scenario import Scenario
 from ergosim.experiment.subject_records import SubjectRecord
+from ergosim.experiment.summary import summary_of
 from ergosim.experiment.team_metrics import team_document, team_in_summary
 from ergosim.plugins import extension_modules, import_extensions
 from ergosim.progress import Progress
@@ -70,44 +68,21 @@ def _job(args) -> SubjectResult:
 def _write(out: Path, name: str, seed: int, cfg: ScenarioConfig, results: list[SubjectResult],
            complete: bool, final: bool, status: str = "running", plot_subjects=None,
            subjects: range | None = None) -> dict:
+    """Write the run's outputs (:data:`~ergosim.experiment.outputs.OUTPUTS`): after a subject those rewritten
+    each time, with ``final`` all of them. The summary is computed from the subject records, as ``ergosim
+    merge`` computes it for shards."""
     results = sorted(results, key=lambda r: r.subject)
-    # computed from the subject records (subject_records.json), as `ergosim merge` does for shards
-    records = [SubjectRecord.of(r) for r in results]
+    records = tuple(SubjectRecord.of(r) for r in results)
     span = (subjects.start, subjects.stop) if subjects is not None else (0, cfg.subjects)
     config = cfg.record()
     summary = summary_of(name, seed, config, records, subject_range=span, complete=complete, status=status)
-    write_record_files(out, name, seed, config, records, subject_range=span)
     modes = {m: [r.runs[m] for r in results if m in r.runs] for m in cfg.modes}
+    team = None
     if team_in_summary(cfg, modes):  # a team setting is not the paper's: team.json, and in summary.json
-        team = team_document(cfg, modes)
-        write_json(out / "team.json", team)
-        summary["team"] = team
-    if final:
-        write_ticks(out / "ticks.csv", [run for r in results for run in r.runs.values()])
-        _write_states(out, name, seed, cfg, results)
-        write_subjects(out / "subjects.csv", [(r.name, r.runs[m]) for m in cfg.modes for r in results
-                                              if m in r.runs])
-        write_action_traces(out / "kwear_actions.csv", [(r.subject, a, t, v) for r in results
-                                                        for a, (t, v) in sorted(r.traces.items())])
-        write_plots(out, subjects=plot_subjects)
-    write_summary(out / "summary.json", summary)
+        team = summary["team"] = team_document(cfg, modes)
+    write_outputs(out, Products(name, seed, config, records, span, summary, team, tuple(results),
+                                plot_subjects), final=final)
     return summary
-
-
-def _write_states(out: Path, name: str, seed: int, cfg: ScenarioConfig, results: list[SubjectResult]) -> None:
-    """kwear_state_s<subject>_<mode>.json: the KWear state each run ended with
-    (:mod:`ergosim.experiment.kwear_state`)."""
-    for r in results:
-        params = r.kwear_params
-        for mode, run in r.runs.items():
-            rows = run.ticks.rows
-            doc = state_document(
-                scenario=name, task=cfg.task, seed=seed, subject=r.subject, worker=r.name, mode=mode,
-                time_s=float(rows[-1, 1]) if len(rows) else 0.0,
-                v=run.ticks.kwear[-1] if len(rows) else [0.0] * run.ticks.kwear.shape[1],
-                alpha=r.alphas, kwear_params=params, gamma=cfg.gamma, v_th=cfg.v_th,
-                robot_cost=cfg.robot_cost)
-            write_json(out / f"kwear_state_s{r.subject}_{mode}.json", doc)
 
 
 def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None = None, progress: bool = True,

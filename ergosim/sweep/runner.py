@@ -25,8 +25,8 @@ from ergosim.sweep.executors import make_executor
 from ergosim.sweep.folder import SweepFolder
 from ergosim.sweep.plots import write_sweep_plots
 from ergosim.sweep.stats import cell_statistics
-from ergosim.sweep.tables import allocations_table, results_table, write_parquet
-from ergosim.sweep.units import Unit, plan_units
+from ergosim.sweep.tables import results_table, unit_rows_table, write_parquet
+from ergosim.sweep.units import UNIT_OUTPUTS, Unit, plan_units
 
 __all__ = ["SweepResult", "run_sweep", "CONSOLIDATE_EVERY", "EXIT_INCOMPLETE"]
 
@@ -65,7 +65,8 @@ def _consolidate(sweep, folder: SweepFolder, units: Sequence[Unit], docs: Mappin
                  plots: bool) -> tuple[set[int], list[str]]:
     table = results_table(sweep, units, docs)
     write_parquet(folder.path / "results.parquet", table)
-    write_parquet(folder.path / "allocations.parquet", allocations_table(units, docs))
+    for o in UNIT_OUTPUTS:
+        write_parquet(folder.path / f"{o.name}.parquet", unit_rows_table(o, units, docs))
     complete = _complete_cells(units, docs)
     rows = table.to_pylist()
     write_parquet(folder.path / "cells.parquet", cell_statistics(sweep, rows, complete))

@@ -24,13 +24,14 @@ from typing import Any
 
 from ergosim import __version__
 from ergosim.errors import ErgosimError
+from ergosim.experiment.outputs import OUTPUTS
 from ergosim.experiment.scenario import Scenario
 from ergosim.experiment.subject_records import RunRecord
 from ergosim.plugins import import_extensions
 from ergosim.sweep.fingerprint import code_fingerprint
 from ergosim.sweep.metrics import unit_metrics
 
-__all__ = ["Unit", "UNIT_FORMAT", "UNIT_STATUSES", "ALLOCATION_FIELDS", "unit_scenario", "unit_id",
+__all__ = ["Unit", "UNIT_FORMAT", "UNIT_STATUSES", "UNIT_OUTPUTS", "unit_scenario", "unit_id",
            "plan_units", "run_unit", "failed_document"]
 
 UNIT_FORMAT = "ergosim-sweep-unit/1"
@@ -38,8 +39,9 @@ UNIT_STATUSES = ("complete", "abandoned", "failed")
 """``complete``: every repetition completed; ``abandoned``: the run ended but a repetition was abandoned
 (no agent left able to finish it; the metrics are those of the run); ``failed``: the unit raised (a cell
 certain to fail, a crash), its metrics are empty and ``error`` says why."""
-ALLOCATION_FIELDS = ("repetition", "order", "action", "agent", "status", "attempt", "forced", "t_start",
-                     "t_end", "human_cost", "robot_cost")
+UNIT_OUTPUTS = tuple(o for o in OUTPUTS if o.unit_table is not None)
+"""The run outputs whose rows every unit's document keeps under the output's name, gathered into
+``<name>.parquet`` (:mod:`ergosim.sweep.tables`)."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -112,7 +114,8 @@ def run_unit(scenario: Scenario, unit: Unit, actions: Sequence[str],
         result = run_subject(sc, unit.subject, unit.seed, (unit.mode,), slots=(unit.slot,))
         run = RunRecord.of(result.runs[unit.mode])
         doc["metrics"] = {k: _plain(v) for k, v in unit_metrics(run, result.rula_g, actions).items()}
-        doc["allocations"] = [[_plain(getattr(a, f)) for f in ALLOCATION_FIELDS] for a in run.allocations]
+        for o in UNIT_OUTPUTS:  # the rows of each output a unit keeps (allocations.csv's attempts, ...)
+            doc[o.name] = [[_plain(v) for v in row] for row in o.unit_table.rows(run)]
         doc["status"] = "abandoned" if any(o.outcome == "abandoned" for o in run.outcomes) else "complete"
         if doc["status"] == "abandoned":
             doc["error"] = "; ".join(sorted({o.reason for o in run.outcomes if o.outcome == "abandoned"}))
@@ -132,7 +135,7 @@ def run_unit(scenario: Scenario, unit: Unit, actions: Sequence[str],
 def failed_document(unit: Unit, error: str) -> dict[str, Any]:
     """The document of ``unit`` failed with ``error`` (also the start of every unit's document)."""
     return {"format": UNIT_FORMAT, **dataclasses.asdict(unit), "status": "failed", "error": error,
-            "metrics": {}, "allocations": [], "wall_s": 0.0, "host": ""}
+            "metrics": {}, **{o.name: [] for o in UNIT_OUTPUTS}, "wall_s": 0.0, "host": ""}
 
 
 def _plain(value: Any) -> Any:

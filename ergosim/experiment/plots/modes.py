@@ -15,7 +15,7 @@ import numpy as np
 
 from ergosim.experiment.plots.style import mode_colour, plt
 from ergosim.experiment.plots.tables import SubjectRow
-from ergosim.experiment.report import wilcoxon_between
+from ergosim.experiment.summary import wilcoxon_between
 
 __all__ = ["modes_figure", "paired_tests"]
 
