@@ -68,7 +68,7 @@ def test_a_registered_scenario_is_listed_and_runs_by_name(tmp_path, capsys):
         assert summary["modes"]["r-only"]["robot_share"] == 1.0
         assert summary["modes"]["h-only"]["robot_share"] == 0.0
     finally:
-        scenariofile._SCENARIOS.pop("my-bracket", None)  # leave the registry as the other tests expect it
+        scenariofile.SCENARIOS.unregister("my-bracket")  # leave the registry as the other tests expect it
 
 
 def _scenario() -> str:

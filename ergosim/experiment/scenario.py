@@ -21,25 +21,25 @@ from ergosim.overrides import apply_overrides
 from ergosim.planner import AndOrGraph, bundled_task_source, bundled_task_text, task_from_dict
 from ergosim.planner.bundled import BUNDLED_TASKS
 from ergosim.planner.task_overrides import apply_task_overrides
-from ergosim.plugins import note_caller
+from ergosim.registry import Registry
 from ergosim.scenes import CellSpec, apply_cell_overrides, cell_document, parse_cell
 from ergosim.scenes.cellfile import read_toml
 from ergosim.twin.protocol import ScenarioConfig
 
-__all__ = ["Scenario", "register_scenario", "scenario_names", "scenario_path", "scenario_info",
+__all__ = ["Scenario", "SCENARIOS", "register_scenario", "scenario_names", "scenario_path", "scenario_info",
            "load_scenario", "scenario_config", "split_overrides"]
 
 _TOP = {"name", "description", "task", "workcell", "protocol"}
 _LABEL_FIELDS = ("scene", "task")
 
-_SCENARIOS: dict[str, Path] = {}
+SCENARIOS: Registry[Path] = Registry("scenario", where="ergosim run", hint="or the path of a scenario file")
+"""The scenario files by name."""
 
 
 def register_scenario(name: str, path: str | os.PathLike[str]) -> None:
     """Make the scenario file at ``path`` runnable by ``name`` (``ergosim run NAME``, ``ergosim
     scenarios``)."""
-    note_caller()
-    _SCENARIOS[name] = Path(path)
+    SCENARIOS.register(name, Path(path))
 
 
 for _f in sorted(resources.files("ergosim").joinpath("data", "scenarios").iterdir(), key=lambda f: f.name):
@@ -48,18 +48,15 @@ for _f in sorted(resources.files("ergosim").joinpath("data", "scenarios").iterdi
 
 
 def scenario_names() -> tuple[str, ...]:
-    return tuple(_SCENARIOS)
+    return SCENARIOS.names()
 
 
 def scenario_path(name_or_path: str | os.PathLike[str]) -> Path:
     """The file of a registered scenario, or ``name_or_path`` itself when it is a file."""
     text = str(name_or_path)
-    if text in _SCENARIOS:
-        return _SCENARIOS[text]
-    if text.endswith(".toml") or os.sep in text:
+    if text not in SCENARIOS and (text.endswith(".toml") or os.sep in text):
         return Path(text)
-    raise ConfigError(f"unknown scenario {text!r}; valid scenarios: {', '.join(_SCENARIOS)} "
-                      "(or the path of a scenario file)", where="ergosim run")
+    return SCENARIOS.get(text)
 
 
 def scenario_info(name: str) -> dict[str, Any]:
@@ -206,7 +203,7 @@ def load_scenario(name_or_path: str | os.PathLike[str],
     """Read, resolve and check a scenario (a registered name or a scenario file), with ``overrides``."""
     path = scenario_path(name_or_path)
     doc = read_toml(path, what="scenario file")
-    bundled = str(name_or_path) in _SCENARIOS
+    bundled = str(name_or_path) in SCENARIOS
     source = f"ergosim/data/scenarios/{path.name}" if bundled else str(path)
     unknown = sorted(set(doc) - _TOP)
     if unknown:

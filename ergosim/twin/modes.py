@@ -25,11 +25,11 @@ import numpy as np
 
 from ergosim.ergonomics.cost import CostParams, rula_baseline_params
 from ergosim.ergonomics.risk_index import RiskIndex, StaticRulaIndex
-from ergosim.errors import ConfigError
-from ergosim.plugins import note_caller
+from ergosim.registry import Registry
 from ergosim.viz.reason import allocation_reason
 
-__all__ = ["Mode", "RiskIndexEntry", "IndexContext", "register_mode", "register_risk_index", "get_mode",
+__all__ = ["Mode", "RiskIndexEntry", "IndexContext", "MODES", "RISK_INDICES", "register_mode",
+           "register_risk_index", "get_mode",
            "mode_or_default", "mode_names", "risk_index_names", "get_risk_index"]
 
 
@@ -86,52 +86,45 @@ class Mode:
                robots: tuple[str, ...]) -> str:
         if self.risk_index is None:
             return f"{action} → {agent}: {self.name} mode"
-        return _INDICES[self.risk_index].reason(action, agent, v_hat, costs, index, cost, human, robots)
+        return RISK_INDICES[self.risk_index].reason(action, agent, v_hat, costs, index, cost, human, robots)
 
 
-_MODES: dict[str, Mode] = {}
-_INDICES: dict[str, RiskIndexEntry] = {}
+MODES: Registry[Mode] = Registry("mode", where="mode")
+"""The allocation modes by name (``--mode``, a scenario's ``modes``)."""
+RISK_INDICES: Registry[RiskIndexEntry] = Registry("risk index", plural="risk indices", where="mode")
+"""The risk indices by name (a mode's ``risk_index``)."""
 
 
 def register_mode(mode: Mode) -> None:
     """Make ``mode`` available by name (``--mode``, a scenario's ``modes``), in worker processes too."""
-    note_caller()
-    _MODES[mode.name] = mode
+    MODES.register(mode.name, mode)
 
 
 def register_risk_index(entry: RiskIndexEntry) -> None:
     """Make a risk index available by name to the modes, in worker processes too."""
-    note_caller()
-    _INDICES[entry.name] = entry
+    RISK_INDICES.register(entry.name, entry)
 
 
 def mode_names() -> tuple[str, ...]:
-    return tuple(_MODES)
+    return MODES.names()
 
 
 def risk_index_names() -> tuple[str, ...]:
-    return tuple(_INDICES)
+    return RISK_INDICES.names()
 
 
 def mode_or_default(name: str) -> Mode:
     """The registered mode ``name``, or a plain :class:`Mode` of that name (outputs of a mode no longer
     registered are still summarised)."""
-    return _MODES.get(name) or Mode(name, "unregistered mode")
+    return MODES[name] if name in MODES else Mode(name, "unregistered mode")
 
 
 def get_mode(name: str) -> Mode:
-    try:
-        return _MODES[name]
-    except KeyError:
-        raise ConfigError(f"unknown mode {name!r}; modes: {', '.join(_MODES)}", where="mode") from None
+    return MODES.get(name)
 
 
 def get_risk_index(name: str) -> RiskIndexEntry:
-    try:
-        return _INDICES[name]
-    except KeyError:
-        raise ConfigError(f"unknown risk index {name!r}; indices: {', '.join(_INDICES)}",
-                          where="mode") from None
+    return RISK_INDICES.get(name)
 
 
 # -- the bundled risk indices ------------------------------------------------------------------------------
