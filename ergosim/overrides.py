@@ -12,9 +12,26 @@ import typing
 from collections.abc import Iterable, Mapping
 from typing import Any
 
-from ergosim.errors import ConfigError
+from ergosim.errors import ConfigError, ErgosimError
 
-__all__ = ["parse_assignments", "apply_overrides", "field_names"]
+__all__ = ["parse_assignments", "apply_overrides", "field_names", "finite_float"]
+
+
+def finite_float(raw: Any, name: str, *, where: str, error: type[ErgosimError] = ConfigError) -> float:
+    """``raw`` (a number, or text such as a ``--set`` value) as a finite float, for every reader of user
+    input. An error is one message form, ``NAME='RAW' is not a number`` (or ``... is not a finite number``),
+    raised as ``error`` at ``where``; ``true``/``false`` are not numbers."""
+    value = None
+    if not isinstance(raw, bool):
+        try:
+            value = float(raw)
+        except (TypeError, ValueError):
+            pass
+    if value is None:
+        raise error(f"{name}={raw!r} is not a number", where=where)
+    if not math.isfinite(value):
+        raise error(f"{name}={raw!r} is not a finite number", where=where)
+    return value
 
 
 def parse_assignments(items: Iterable[str], *, where: str = "--set") -> dict[str, str]:
@@ -69,13 +86,7 @@ def _convert(raw: Any, annotation: Any, key: str, where: str) -> Any:
         except ValueError:
             raise ConfigError(f"{key}={raw!r} is not an integer", where=where) from None
     if annotation is float:
-        try:
-            value = float(raw)
-        except (TypeError, ValueError):
-            raise ConfigError(f"{key}={raw!r} is not a number", where=where) from None
-        if not math.isfinite(value):
-            raise ConfigError(f"{key}={raw!r} is not a finite number", where=where)
-        return value
+        return finite_float(raw, key, where=where)
     if annotation is str:
         return str(raw)
     return raw

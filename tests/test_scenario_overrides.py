@@ -103,7 +103,7 @@ def test_another_task_and_workcell_by_file(tmp_path):
     ({"scene.parts.housing.slots.nope.at": "0,0,0"}, "unknown key 'parts.housing.slots.nope.at'"),
     ({"scene.parts.housing.xy": "0.7"}, "has 1 value, expected 2"),
     ({"scene.worker.hand": "both"}, "must be right or left"),
-    ({"task.agents.robot.cost": "cheap"}, "expected a number"),
+    ({"task.agents.robot.cost": "cheap"}, "task.agents.robot.cost='cheap' is not a number"),
     ({"task.liaisons.g9.agents": "human"}, "unknown task field 'liaisons.g9.agents'"),
     ({"task.liaisons.g2.agents": "nobody"}, "unknown agent 'nobody'"),
     ({"task.liaisons.g1.agents": "robot"}, "its gripper cannot take housing"),

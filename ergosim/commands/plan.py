@@ -122,8 +122,7 @@ def resolve_done(graph: AndOrGraph, items: list[str]) -> list[str]:
 
 def parse_costs(text: str, graph: AndOrGraph) -> dict[tuple[str, str], float]:
     """``human.a2=3.1,robot.a3=0.5`` -> {("a2", "human"): 3.1, ("a3", "robot"): 0.5}."""
-    import math  # noqa: PLC0415
-
+    from ergosim.overrides import finite_float  # noqa: PLC0415
     from ergosim.planner.agents import COST_MAX  # noqa: PLC0415
 
     agents = [a.name for a in graph.agents]
@@ -141,11 +140,8 @@ def parse_costs(text: str, graph: AndOrGraph) -> dict[tuple[str, str], float]:
         if action not in graph.actions:
             raise ConfigError(f"unknown action {action!r} in {item!r}; actions are "
                               f"{', '.join(graph.actions)}", where="--costs")
-        try:
-            value = float(raw)
-        except ValueError:
-            raise ConfigError(f"{item!r}: {raw.strip()!r} is not a number", where="--costs") from None
-        if not (math.isfinite(value) and 0 <= value <= COST_MAX):
+        value = finite_float(raw.strip(), key.strip(), where="--costs")
+        if not 0 <= value <= COST_MAX:
             raise ConfigError(f"{item!r}: a cost must be finite, >= 0 and <= {COST_MAX:g}", where="--costs")
         out[(action, agent)] = value
     return out
