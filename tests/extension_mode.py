@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from ergosim.ergonomics.cost import CostParams
 from ergosim.ergonomics.risk_index import RiskIndex
 from ergosim.twin.modes import Mode, RiskIndexEntry, register_mode, register_risk_index
 
@@ -40,9 +39,7 @@ class PeakKWear(RiskIndex):
 
 
 def _build(ctx):
-    cfg = ctx.protocol
-    return PeakKWear(ctx.kwear), CostParams(gamma=cfg.gamma, v_th=cfg.v_th, robot_cost=cfg.robot_cost,
-                                            v_max=ctx.kwear.params.v_max)
+    return PeakKWear(ctx.kwear), ctx.protocol.cost.params(ctx.kwear.params.v_max)
 
 
 def _reason(action, agent, v_hat, costs, index, cost, human, robots) -> str:

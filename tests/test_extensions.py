@@ -35,7 +35,7 @@ def test_the_new_mode_runs_end_to_end_in_worker_processes(tmp_path, capsys):
     with (out / "allocations.csv").open() as f:
         rows = [r for r in csv.DictReader(f) if r["status"] == "done"]
     assert len(rows) == 20
-    gamma, robot_cost = sc.protocol.gamma, sc.protocol.robot_cost
+    gamma, robot_cost = sc.protocol.cost.gamma, sc.protocol.cost.robot_cost
     for r in rows:
         human = float(r["human_cost"])
         # one channel: max_i V̂_i < 1, or that plus Γ once it reaches V_th -- never a sum over joints

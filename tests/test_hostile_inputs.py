@@ -372,7 +372,7 @@ def test_ee_speed_is_bounded_by_the_panda(capsys, tmp_path):
 
     # the bound itself is allowed; contact-critical motion may not outrun the transits (transit_speed)
     fast = apply_overrides(scenario_config("kwear-validation"), {"ee_speed": "1.7", "transit_speed": "1.7"})
-    assert (fast.ee_speed, fast.transit_speed) == (1.7, 1.7)
+    assert (fast.robot.ee_speed, fast.robot.transit_speed) == (1.7, 1.7)
 
 
 # -- 11. interruption ------------------------------------------------------------------------------------

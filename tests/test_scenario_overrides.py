@@ -78,8 +78,8 @@ def test_one_name_may_set_several_fields():
     ("task.liaisons.g3.cost.robot", "0.5",
      lambda sc: all(o.cost_of("robot") == 0.5 for o in sc.task().operations if o.action == "g3")),
     # the protocol, bare or by its table
-    ("takt", "45", lambda sc: sc.protocol.takt == 45.0),
-    ("protocol.v_th", "0.7", lambda sc: sc.protocol.v_th == 0.7),
+    ("takt", "45", lambda sc: sc.protocol.pacing.takt == 45.0),
+    ("protocol.v_th", "0.7", lambda sc: sc.protocol.cost.v_th == 0.7),
     ("modes", "hrc,r-only", lambda sc: sc.protocol.modes == ("hrc", "r-only")),
     # the scenario's own fields: another task or workcell
     ("workcell", "gearbox", lambda sc: sc.protocol.scene == "gearbox"),

@@ -77,7 +77,7 @@ def test_allocation_table_and_files(tmp_path):
 def test_scenarios_validate_and_reject_bad_values():
     cfg = scenario_config("multi-subject")
     cfg.validate()
-    assert cfg.rula_threshold == pytest.approx(7.2)
+    assert cfg.cost.rula_threshold == pytest.approx(7.2)
     with pytest.raises(ConfigError, match="unknown scenario 'nope'; valid scenarios: gearbox, "):
         scenario_config("nope")
 

@@ -30,11 +30,11 @@ def run(args) -> int:
     from ergosim.experiment.run_merge import merge_runs  # noqa: PLC0415 - keep `ergosim --help` fast
     from ergosim.experiment.scenario_run import EXIT_ABANDONED  # noqa: PLC0415
     from ergosim.experiment.summary_text import summary_text  # noqa: PLC0415
-    from ergosim.twin.protocol import ScenarioConfig  # noqa: PLC0415
+    from ergosim.twin.protocol import protocol_from_record  # noqa: PLC0415
 
     result = merge_runs([Path(d) for d in args.dirs], Path(args.out))
     if not args.quiet:
-        cfg = ScenarioConfig(**{k: tuple(v) if isinstance(v, list) else v for k, v in result.config.items()})
+        cfg = protocol_from_record(result.config)
         print(summary_text(result.summary, cfg))
     first, last = result.subjects.start, result.subjects.stop - 1
     print(f"merged {len(args.dirs)} run folder(s), subjects {first}..{last}: {result.out.resolve()}")

@@ -86,7 +86,7 @@ def _scenario(args):
         raise ConfigError("--rrd-subject/--rrd-mode choose what to record: give --rrd FILE, --spawn or "
                           "--connect as well", where="--rrd-subject" if args.rrd_subject is not None
                           else "--rrd-mode")
-    subjects = subject_range(args.subject_range, cfg.subjects)
+    subjects = subject_range(args.subject_range, cfg.population.subjects)
     if args.rrd_subject is not None and args.rrd_subject not in subjects:
         raise ConfigError(f"must be a subject index in {subjects.start}..{subjects.stop - 1}, got "
                           f"{args.rrd_subject}", where="--rrd-subject")
@@ -143,10 +143,10 @@ def run(args) -> int:
         raise ConfigError(f"{out} exists and is not a directory", where="--out")
     video = video_request(args, scenario)
     plot_subjects = parse_subjects(args.plot_subject)
-    if plot_subjects and max(plot_subjects) >= cfg.subjects:
-        raise ConfigError(f"must be subject indices in 0..{cfg.subjects - 1}, got {args.plot_subject}",
-                          where="--plot-subject")
-    _in_shard(subjects, cfg.subjects, plot_subjects=plot_subjects,
+    if plot_subjects and max(plot_subjects) >= cfg.population.subjects:
+        raise ConfigError(f"must be subject indices in 0..{cfg.population.subjects - 1}, got "
+                          f"{args.plot_subject}", where="--plot-subject")
+    _in_shard(subjects, cfg.population.subjects, plot_subjects=plot_subjects,
               video=None if video is None else video.subject)
     _precheck(scenario)
     if video is not None:

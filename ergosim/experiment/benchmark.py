@@ -42,7 +42,7 @@ def bench_repetition(scenario: str, mode: str = "hrc", seed: int = 0,
     if record:
         with tempfile.TemporaryDirectory() as tmp:
             rec = open_recording(rrd=Path(tmp) / "bench.rrd")
-            record_run(rec, rig.cell.model, run, cfg.v_th, rig.cell.parts)
+            record_run(rec, rig.cell.model, run, cfg.cost.v_th, rig.cell.parts)
             rec.close()
     wall = time.perf_counter() - t0
     sim = rig.plant.time

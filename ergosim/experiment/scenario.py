@@ -225,8 +225,7 @@ def load_scenario(name_or_path: str | os.PathLike[str],
     missing = [k for k in ("subjects", "repetitions", "modes", "robot_cost") if k not in protocol]
     if missing:
         raise ConfigError(f"missing key {missing[0]!r}", where=f"{source}: protocol")
-    base = ScenarioConfig(scene=cell.name, task=task_label, subjects=1, repetitions=1, modes=("hrc",),
-                          robot_cost=1.0)
+    base = ScenarioConfig(scene=cell.name, task=task_label)
     cfg = apply_overrides(base, {k: (tuple(v) if isinstance(v, list) else v) for k, v in protocol.items()},
                           where=f"{source}: protocol")
     cfg.validate(where=f"{source}: protocol")

@@ -73,7 +73,7 @@ def _write(out: Path, name: str, seed: int, cfg: ScenarioConfig, results: list[S
     merge`` computes it for shards."""
     results = sorted(results, key=lambda r: r.subject)
     records = tuple(SubjectRecord.of(r) for r in results)
-    span = (subjects.start, subjects.stop) if subjects is not None else (0, cfg.subjects)
+    span = (subjects.start, subjects.stop) if subjects is not None else (0, cfg.population.subjects)
     config = cfg.record()
     summary = summary_of(name, seed, config, records, subject_range=span, complete=complete, status=status)
     modes = {m: [r.runs[m] for r in results if m in r.runs] for m in cfg.modes}
@@ -108,7 +108,7 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
     record_mode = (record_mode or cfg.modes[0]) if recording else None
     folder = RunFolder(out, scenario=name, seed=seed)
     folder.claim(cfg.record())
-    subjects = subjects if subjects is not None else range(cfg.subjects)
+    subjects = subjects if subjects is not None else range(cfg.population.subjects)
     jobs = max(1, min(jobs or os.cpu_count() or 1, len(subjects)))
     kept = {(record_subject, record_mode)} if record_mode is not None else set()
     if video is not None:
@@ -169,7 +169,7 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
         subject = scenario_subject(scenario, record_subject, seed)
         cell = subject_cell(scenario, subject)
         view = cell.config.view()
-        record_run(recorder, cell.model, chosen[0].runs[record_mode], cfg.v_th, cell.parts,
+        record_run(recorder, cell.model, chosen[0].runs[record_mode], cfg.cost.v_th, cell.parts,
                    view=(view.azimuth, view.elevation))
     filmed = None
     chosen = [r for r in results if video is not None and r.subject == video.subject]

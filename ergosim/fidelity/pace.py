@@ -82,7 +82,7 @@ def h_only_band(seeds: Sequence[int], scenario: str = "multi-subject",
     """(lowest pace, highest pace, calibrated pace) that §7.2's H-only fact allows: one H-only repetition of
     every subject of ``seeds`` at MTM-1 standard pace; the slowest, T_1, over the takt is the lowest pace."""
     slowest = 0.0
-    takt = load_scenario(scenario).protocol.takt
+    takt = load_scenario(scenario).protocol.pacing.takt
     for seed in seeds:
         sc = load_scenario(scenario, {"pace": "1.0", "modes": "h-only", "repetitions": "1"})
         with tempfile.TemporaryDirectory() as tmp:

@@ -81,9 +81,9 @@ def scaled_overrides(parameter: str, factor: float) -> dict[str, dict[str, str]]
         scenario = load_scenario(name)
         cfg = scenario.protocol
         if parameter == "pace":
-            over["pace"] = repr(cfg.pace * factor)
+            over["pace"] = repr(cfg.population.pace * factor)
         elif parameter == "transit_speed" and hasattr(cfg, "transit_speed"):
-            over["transit_speed"] = repr(cfg.transit_speed * factor)
+            over["transit_speed"] = repr(cfg.robot.transit_speed * factor)
         elif parameter == "piece_distance":
             over.update(_moved_points(name, factor))
     if parameter == "shelf_height":

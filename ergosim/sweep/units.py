@@ -27,6 +27,7 @@ from ergosim.errors import ErgosimError
 from ergosim.experiment.outputs import OUTPUTS
 from ergosim.experiment.scenario import Scenario
 from ergosim.experiment.subject_records import RunRecord
+from ergosim.overrides import flat_values
 from ergosim.plugins import import_extensions
 from ergosim.sweep.fingerprint import code_fingerprint
 from ergosim.sweep.metrics import unit_metrics
@@ -60,8 +61,7 @@ class Unit:
 
 def unit_scenario(scenario: Scenario, mode: str) -> Scenario:
     """``scenario`` as one unit runs it: one subject, one mode (neither changes the simulation)."""
-    protocol = dataclasses.replace(scenario.protocol, subjects=1, modes=(mode,))
-    return dataclasses.replace(scenario, protocol=protocol)
+    return dataclasses.replace(scenario, protocol=scenario.protocol.replace(subjects=1, modes=(mode,)))
 
 
 def unit_id(scenario: Scenario, subject: int, seed: int, mode: str, slot: int) -> str:
@@ -69,7 +69,7 @@ def unit_id(scenario: Scenario, subject: int, seed: int, mode: str, slot: int) -
     key = {
         "ergosim": __version__,
         "code": code_fingerprint(),
-        "protocol": dict(vars(unit_scenario(scenario, mode).protocol)),
+        "protocol": flat_values(unit_scenario(scenario, mode).protocol),
         "task": scenario.task_doc,
         "workcell": scenario.cell_doc,
         "overrides": dict(scenario.cell_overrides),

@@ -20,17 +20,22 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Callable, Mapping
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ergosim.ergonomics.cost import CostParams, rula_baseline_params
-from ergosim.ergonomics.risk_index import RiskIndex, StaticRulaIndex
+from ergosim.ergonomics.calibration import Calibration
+from ergosim.ergonomics.cost import CostParams
+from ergosim.ergonomics.risk_index import KWearIndex, RiskIndex, StaticRulaIndex
 from ergosim.registry import Registry
 from ergosim.viz.reason import allocation_reason
 
+if TYPE_CHECKING:  # the protocol checks its modes against this module's registry
+    from ergosim.twin.protocol import ScenarioConfig
+
 __all__ = ["Mode", "RiskIndexEntry", "IndexContext", "MODES", "RISK_INDICES", "register_mode",
-           "register_risk_index", "get_mode",
-           "mode_or_default", "mode_names", "risk_index_names", "get_risk_index"]
+           "register_risk_index", "get_mode", "mode_or_default", "mode_names", "risk_index_names",
+           "get_risk_index"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -38,9 +43,9 @@ class IndexContext:
     """What a risk-index factory may use: the scenario protocol, the subject's online KWear index (fed by
     the plant every ergonomics tick) and its calibration (α, G(a_k), η)."""
 
-    protocol: object
-    kwear: RiskIndex
-    calibration: object
+    protocol: ScenarioConfig
+    kwear: KWearIndex
+    calibration: Calibration
 
 
 Pruning = Callable[[Mapping[str, set[str]], str, tuple[str, ...]], set[tuple[str, str]]]
@@ -129,9 +134,7 @@ def get_risk_index(name: str) -> RiskIndexEntry:
 
 # -- the bundled risk indices ------------------------------------------------------------------------------
 def _kwear(ctx: IndexContext) -> tuple[RiskIndex, CostParams]:
-    cfg = ctx.protocol
-    return ctx.kwear, CostParams(gamma=cfg.gamma, v_th=cfg.v_th, robot_cost=cfg.robot_cost,
-                                 v_max=ctx.kwear.params.v_max)
+    return ctx.kwear, ctx.protocol.cost.params(ctx.kwear.params.v_max)
 
 
 def _kwear_reason(action, agent, v_hat, costs, index, cost, human, robots) -> str:
@@ -141,9 +144,8 @@ def _kwear_reason(action, agent, v_hat, costs, index, cost, human, robots) -> st
 
 
 def _rula(ctx: IndexContext) -> tuple[RiskIndex, CostParams]:
-    cfg = ctx.protocol
-    return (StaticRulaIndex(ctx.calibration.rula_scores, g_max=cfg.rula_g_max),
-            rula_baseline_params(cfg.robot_cost, cfg.gamma, g_th=cfg.rula_threshold, g_max=cfg.rula_g_max))
+    cost = ctx.protocol.cost
+    return StaticRulaIndex(ctx.calibration.rula_scores, g_max=cost.rula_g_max), cost.rula_params()
 
 
 def _rula_reason(action, agent, v_hat, costs, index, cost, human, robots) -> str:

@@ -284,9 +284,9 @@ class Session:
         completed = overruns = 0
         # a takt-paced line starts every repetition at its takt slot (paper §7.2: "we fixed the takt time for
         # the two experimental conditions"); H-only workers wait for the takt whatever the line
-        wait = cfg.takt_paced or get_mode(self.mode).waits_for_takt
+        wait = cfg.pacing.takt_paced or get_mode(self.mode).waits_for_takt
         for rep in range(1, repetitions + 1):
-            slot = (rep - 1) * cfg.takt
+            slot = (rep - 1) * cfg.pacing.takt
             if wait and plant.time < slot:
                 plant.track.start_rest(slot - plant.time)
                 plant.run_until(lambda s=slot: plant.time >= s - 1e-9, slot - plant.time + 1.0)
@@ -295,7 +295,7 @@ class Session:
             start = plant.time
             ok = self._repetition(rep)
             completed += int(ok)
-            overruns += int(plant.time - start > cfg.takt)
+            overruns += int(plant.time - start > cfg.pacing.takt)
             if ok:
                 self.outcomes.append(RepetitionOutcome(self.subject_index, self.mode, rep, "completed",
                                                        t_start=start, t_end=plant.time))
@@ -307,7 +307,7 @@ class Session:
                 break
         # The shift lasts the production schedule: a worker who finished early rests until its end, so
         # the load proxies of every mode cover the same window (paper §7.2: takt-timed repetitions).
-        horizon = repetitions * cfg.takt
+        horizon = repetitions * cfg.pacing.takt
         if plant.time < horizon:
             plant.track.start_rest(horizon - plant.time)
             plant.run_until(lambda: plant.time >= horizon - 1e-9, horizon - plant.time + 1.0)
@@ -322,7 +322,8 @@ class Session:
                                          f"(separation {safety.end_separation * 100:.1f} cm)"))
         return SubjectRun(
             subject=self.subject_index, mode=self.mode, allocations=self.allocations, ticks=plant.log,
-            repetitions_completed=completed, takt_overruns=overruns, dt_tick=plant.dt_tick, v_th=cfg.v_th,
+            repetitions_completed=completed, takt_overruns=overruns, dt_tick=plant.dt_tick,
+            v_th=cfg.cost.v_th,
             failures=self.failures, decisions=self.decisions, bodies=bodies, horizon=horizon,
             outcomes=self.outcomes, human=self.allocator.human, robots=tuple(self.allocator.robots),
             execution=self.execution,
