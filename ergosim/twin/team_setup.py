@@ -47,12 +47,13 @@ def make_session(cfg, *, rig, allocator, mode: str, subject: int, seed: int, rng
         offers = np.random.default_rng(np.random.SeedSequence([seed, subject, NEGOTIATION_STREAM,
                                                                zlib.crc32(mode.encode())]))
         negotiator = Negotiator(refusal_model(cfg, seed, subject), plant.kwear, offers)
-    safety = rig.cell.config.safety
+    safety, monitor = rig.cell.config.safety, None
     if rig.robots and (cfg.team.execution == "parallel" or safety.ssm == "on"):
-        plant.monitor = SafetyMonitor(rig.cell, rig.robots, safety, scale=safety.enabled(cfg.team.execution),
-                                      every=plant.tick_every, dt_control=plant.dt_control)
+        monitor = SafetyMonitor(rig.cell, rig.robots, safety, scale=safety.enabled(cfg.team.execution),
+                                every=plant.tick_every, dt_control=plant.dt_control)
+        plant.hooks.append(monitor)
     kwargs = dict(cfg=cfg, mode=mode, subject_index=subject, worker=rig.worker, plant=plant, robot=rig.robots,
-                  allocator=allocator, rng=rng, negotiator=negotiator)
+                  allocator=allocator, rng=rng, negotiator=negotiator, monitor=monitor)
     if cfg.team.execution == "parallel":
         return TeamSession(margin=cfg.team.team_margin, **kwargs)
     return Session(**kwargs)
