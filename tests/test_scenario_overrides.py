@@ -12,7 +12,7 @@ from own_product import write_product
 from ergosim.cli import main
 from ergosim.errors import ErgosimError
 from ergosim.experiment.scenario import load_scenario
-from ergosim.scenes import cell_document
+from ergosim.scenes import cell_document, cellfile
 from ergosim.scenes.cellfile import cell_keys
 
 # The names README and earlier releases gave (`ergosim run ... --set scene.NAME=...`), per paper cell.
@@ -124,3 +124,17 @@ def test_overrides_reach_the_command_line(capsys, tmp_path):
     err = capsys.readouterr().err
     assert code == 2 and err.count("\n") == 1 and "Traceback" not in err
     assert "ergosim/data/tasks/gearbox.toml (with task.liaisons.g1.agents=robot): g1" in err, err
+
+
+def test_workcell_overrides_are_parsed_once_and_win_over_a_subjects_body(monkeypatch):
+    """The override strings are converted and checked when they are set, not again for every subject's
+    workcell; a subject's body (typed fields) goes on top, except where an override set the same field."""
+    sc = load_scenario("kwear-validation", {"scene.l_xy": "0.40,-0.12", "scene.worker.stature": "1.70"})
+    coerced = []
+    real = cellfile._coerce
+    monkeypatch.setattr(cellfile, "_coerce", lambda *a: coerced.append(a) or real(*a))
+    for stature in (1.6, 1.8):
+        cell = sc.cell(**{"worker.stature": stature, "worker.human_scale": (("upper_arm", 1.05),)})
+        assert cell.part("L").xy == (0.40, -0.12) and cell.worker.stature == 1.70
+        assert dict(cell.worker.human_scale) == {"upper_arm": 1.05}
+    assert coerced == []

@@ -23,7 +23,7 @@ from ergosim.planner.bundled import BUNDLED_TASKS
 from ergosim.planner.task_overrides import apply_task_overrides
 from ergosim.registry import Registry
 from ergosim.scenes import CellSpec, apply_cell_overrides, cell_document, parse_cell
-from ergosim.scenes.cellfile import read_toml
+from ergosim.scenes.cellfile import override_paths, read_toml
 from ergosim.twin.protocol import ScenarioConfig
 
 __all__ = ["Scenario", "SCENARIOS", "register_scenario", "scenario_names", "scenario_path", "scenario_info",
@@ -76,8 +76,9 @@ def scenario_info(name: str) -> dict[str, Any]:
 
 @dataclasses.dataclass(frozen=True)
 class Scenario:
-    """A resolved scenario. ``cell_overrides``: workcell overrides (dotted path or alias -> value) applied
-    on top of ``cell_doc`` for every subject."""
+    """A resolved scenario. ``cell_overrides``: workcell overrides (dotted path or alias -> value, as the
+    user gave them) on top of ``cell_doc`` for every subject; ``cell_resolved``: ``cell_doc`` with them
+    applied, converted and checked once, when they were set (None without overrides)."""
 
     name: str
     source: str
@@ -87,16 +88,21 @@ class Scenario:
     cell_doc: Mapping[str, Any]
     cell_source: str
     cell_overrides: Mapping[str, Any] = dataclasses.field(default_factory=dict)
+    cell_resolved: Mapping[str, Any] | None = None
 
     def task(self) -> AndOrGraph:
         return task_from_dict(dict(self.task_doc), source=self.task_source)
 
     def cell(self, **extra: Any) -> CellSpec:
-        """The workcell with ``extra`` (e.g. a subject's body) and then the scenario's overrides applied.
-        Messages name the file with the overrides, e.g. ``multi-subject.toml (with
-        scene.side_table_height=1.15)``, so a problem an override made says which one."""
-        overrides = {**extra, **dict(self.cell_overrides)}
-        doc = apply_cell_overrides(self.cell_doc, overrides, where=f"{self.cell_source} (overrides)")
+        """The workcell with the scenario's overrides and ``extra`` (typed fields by dotted path, e.g. a
+        subject's body) where no override set the same field: the scenario's overrides win. Messages name the
+        file with the overrides, e.g. ``multi-subject.toml (with scene.side_table_height=1.15)``, so a
+        problem an override made says which one."""
+        doc = self.cell_doc if self.cell_resolved is None else self.cell_resolved
+        fixed = {p for key in self.cell_overrides for p in override_paths(self.cell_doc, key)}
+        extra = {k: v for k, v in extra.items() if k not in fixed}
+        if extra:
+            doc = apply_cell_overrides(doc, extra, where=f"{self.cell_source} (overrides)")
         said = ", ".join(f"scene.{k}={_said(v)}" for k, v in self.cell_overrides.items())
         return parse_cell(doc, source=f"{self.cell_source} (with {said})" if said else self.cell_source)
 
@@ -124,8 +130,10 @@ class Scenario:
         own = groups["protocol"]
         protocol = apply_overrides(new.protocol, own, where=where) if own else new.protocol
         protocol.validate(where=where)
-        new = dataclasses.replace(new, protocol=protocol,
-                                  cell_overrides={**dict(new.cell_overrides), **groups["cell"]})
+        cell = {**dict(new.cell_overrides), **groups["cell"]}
+        resolved = apply_cell_overrides(new.cell_doc, cell, where=f"{new.cell_source} (overrides)") \
+            if cell else None
+        new = dataclasses.replace(new, protocol=protocol, cell_overrides=cell, cell_resolved=resolved)
         if new is not self and (groups["cell"] or groups["task"] or groups["refs"]):
             from ergosim.experiment.scenario_check import check_scenario  # noqa: PLC0415
 

@@ -40,7 +40,8 @@ from ergosim.scenes.cellspec import (
     Worker,
 )
 
-__all__ = ["read_cell_file", "parse_cell", "apply_cell_overrides", "cell_keys", "MAX_FILE_BYTES"]
+__all__ = ["read_cell_file", "parse_cell", "apply_cell_overrides", "override_paths", "cell_keys",
+           "MAX_FILE_BYTES"]
 
 MAX_FILE_BYTES = 4 * 1024 * 1024
 """Largest workcell or scenario file read [bytes]; a cell is a few kB."""
@@ -188,9 +189,7 @@ def apply_cell_overrides(doc: Mapping[str, Any], overrides: Mapping[str, Any], w
     aliases = out.get("aliases") or {}
     valid = set(cell_keys(out))
     for key, value in overrides.items():
-        paths = aliases.get(key, key)
-        paths = [paths] if isinstance(paths, str) else list(paths)
-        for path in paths:
+        for path in override_paths(out, key):
             if path not in valid:
                 sample = ", ".join(sorted(aliases) or cell_keys(out)[:12])
                 raise ConfigError(f"unknown key {key!r}; valid keys include: {sample} (or a dotted path such "
@@ -207,6 +206,13 @@ def apply_cell_overrides(doc: Mapping[str, Any], overrides: Mapping[str, Any], w
             for other in _EXCLUSIVE.get((head[0], last), ()) if head else ():
                 node.pop(other, None)  # a full pose replaces a resting placement, and the other way round
     return out
+
+
+def override_paths(doc: Mapping[str, Any], key: str) -> list[str]:
+    """The dotted paths of ``doc`` that the override ``key`` sets: ``key`` itself, or what its alias stands
+    for (the file's ``[aliases]``)."""
+    paths = (doc.get("aliases") or {}).get(key, key)
+    return [paths] if isinstance(paths, str) else list(paths)
 
 
 _EXCLUSIVE = {("parts", "pos"): ("xy", "on"), ("parts", "xy"): ("pos", "rpy"),
