@@ -82,7 +82,7 @@ def scaled_overrides(parameter: str, factor: float) -> dict[str, dict[str, str]]
         cfg = scenario.protocol
         if parameter == "pace":
             over["pace"] = repr(cfg.population.pace * factor)
-        elif parameter == "transit_speed" and hasattr(cfg, "transit_speed"):
+        elif parameter == "transit_speed":
             over["transit_speed"] = repr(cfg.robot.transit_speed * factor)
         elif parameter == "piece_distance":
             over.update(_moved_points(name, factor))
