@@ -16,6 +16,7 @@ from ergosim import api
 from ergosim.cli import main
 from ergosim.experiment import scenario as scenariofile
 from ergosim.plugins import extension_modules
+from ergosim.viz.reason import reason_text
 
 
 def test_a_new_mode_and_risk_index_are_registered_by_importing_one_module():
@@ -47,7 +48,8 @@ def test_the_new_mode_runs_end_to_end_in_worker_processes(tmp_path, capsys):
     assert len(decisions) == 20
     for d in decisions:
         peak = float(np.max(d.v_hat[d.action]))
-        assert d.reason.startswith(f"{d.action} → {d.agent}: peak predicted KWear {peak:.2f}"), d.reason
+        text = reason_text(d)
+        assert text.startswith(f"{d.action} → {d.agent}: peak predicted KWear {peak:.2f}"), text
     assert main(["run", "kwear-validation", "--mode", "peak", "--reps", "1", "--jobs", "1", "--quiet",
                  "--set", "eta_max=2", "--out", str(tmp_path / "cli")]) == 0  # --mode offers it too
     capsys.readouterr()

@@ -40,6 +40,7 @@ from ergosim.video import (
     write_run_video,
 )
 from ergosim.video.timeline import Event
+from ergosim.viz.reason import reason_text
 from ergosim.viz.styles import JOINT_COLORS
 from ergosim.worker.subjects import make_subjects
 
@@ -121,7 +122,7 @@ def test_timeline_draws_the_runs_own_records(recorded):
     assert (info.action, info.agent, info.repetition) == (a.action, a.agent, 1)
     assert info.action_text == f"{cell.actions[a.action].kind} {cell.actions[a.action].part}"
     decision = next(d for d in run.decisions if d.time <= info.time and d.action == a.action)
-    assert info.events == (Event(decision.time, "decision", decision.reason, decision.agent),)
+    assert info.events == (Event(decision.time, "decision", reason_text(decision), decision.agent),)
     t, kw = run.ticks.column("t"), run.ticks.kwear
     k = len(t) // 2
     assert np.allclose(tl.at(float(t[k]), hold=0).kwear, kw[k])

@@ -1,9 +1,10 @@
 """Allocation modes and risk indices, each registered in one place.
 
 A :class:`Mode` brings everything that differs between modes: the risk index whose prediction prices the
-worker's hyper-arcs (or none), the pruning of hyper-arcs before every decision (paper §2.2), whether the
-worker waits for the takt, and the decision's reason text. A risk index is registered by name with a
-factory that builds it, and its cost rule, for one subject's run.
+worker's hyper-arcs (or none), the pruning of hyper-arcs before every decision (paper §2.2) and whether the
+worker waits for the takt. A risk index is registered by name with a factory that builds it, and its cost
+rule, for one subject's run. A decision records why as data (:class:`~ergosim.twin.allocator.Basis`); the
+words are :mod:`ergosim.viz.reason`'s.
 
 Bundled modes:
 
@@ -22,13 +23,10 @@ import dataclasses
 from collections.abc import Callable, Mapping
 from typing import TYPE_CHECKING
 
-import numpy as np
-
 from ergosim.ergonomics.calibration import Calibration
 from ergosim.ergonomics.cost import CostParams
 from ergosim.ergonomics.risk_index import KWearIndex, RiskIndex, StaticRulaIndex
 from ergosim.registry import Registry
-from ergosim.viz.reason import allocation_reason
 
 if TYPE_CHECKING:  # the protocol checks its modes against this module's registry
     from ergosim.twin.protocol import ScenarioConfig
@@ -54,12 +52,10 @@ Pruning = Callable[[Mapping[str, set[str]], str, tuple[str, ...]], set[tuple[str
 
 @dataclasses.dataclass(frozen=True)
 class RiskIndexEntry:
-    """``build(ctx)`` -> (the index, its cost rule); ``reason(action, agent, v_hat, costs, index, cost, human,
-    robots)`` -> the decision's text."""
+    """``build(ctx)`` -> (the index, its cost rule) for one subject's run."""
 
     name: str
     build: Callable[[IndexContext], tuple[RiskIndex, CostParams]]
-    reason: Callable[..., str]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -86,12 +82,6 @@ class Mode:
     def pruned(self, allowed: Mapping[str, set[str]], human: str,
                robots: tuple[str, ...]) -> set[tuple[str, str]]:
         return set() if self.prune is None else self.prune(allowed, human, robots)
-
-    def reason(self, action: str, agent: str, v_hat, costs, index, cost, human: str,
-               robots: tuple[str, ...]) -> str:
-        if self.risk_index is None:
-            return f"{action} → {agent}: {self.name} mode"
-        return RISK_INDICES[self.risk_index].reason(action, agent, v_hat, costs, index, cost, human, robots)
 
 
 MODES: Registry[Mode] = Registry("mode", where="mode")
@@ -137,30 +127,13 @@ def _kwear(ctx: IndexContext) -> tuple[RiskIndex, CostParams]:
     return ctx.kwear, ctx.protocol.cost.params(ctx.kwear.params.v_max)
 
 
-def _kwear_reason(action, agent, v_hat, costs, index, cost, human, robots) -> str:
-    vh = np.asarray(v_hat[action])
-    return allocation_reason((action, agent), v_hat=v_hat, costs=costs,
-                             v_th=np.broadcast_to(np.asarray(cost.v_th, dtype=float), vh.shape))
-
-
 def _rula(ctx: IndexContext) -> tuple[RiskIndex, CostParams]:
     cost = ctx.protocol.cost
     return StaticRulaIndex(ctx.calibration.rula_scores, g_max=cost.rula_g_max), cost.rula_params()
 
 
-def _rula_reason(action, agent, v_hat, costs, index, cost, human, robots) -> str:
-    hc = costs.get((action, human))
-    rc = min((costs[(action, r)] for r in robots if (action, r) in costs), default=float("nan"))
-    th = float(np.max(cost.v_th))
-    vh = np.asarray(v_hat[action])
-    rel = "≥" if vh[int(np.argmax(vh))] >= th else "<"
-    g_max = index.g_max
-    return (f"{action} → {agent}: RULA G={vh[0] * g_max:g} {rel} G_th {th * g_max:g}"
-            f" (human cost {hc:.2f}, robot cost {rc:.2f})")
-
-
-register_risk_index(RiskIndexEntry("kwear", _kwear, _kwear_reason))
-register_risk_index(RiskIndexEntry("rula-static", _rula, _rula_reason))
+register_risk_index(RiskIndexEntry("kwear", _kwear))
+register_risk_index(RiskIndexEntry("rula-static", _rula))
 
 
 # -- the bundled modes ---------------------------------------------------------------------------------------
