@@ -12,9 +12,12 @@ by ``spawn`` itself and is not noted.
 from __future__ import annotations
 
 import importlib
+import logging
 import sys
 
 __all__ = ["note_caller", "extension_modules", "import_extensions"]
+
+log = logging.getLogger(__name__)
 
 _MODULES: list[str] = []
 
@@ -46,4 +49,5 @@ def extension_modules() -> tuple[str, ...]:
 def import_extensions(names: tuple[str, ...]) -> None:
     """Import ``names`` (from :func:`extension_modules` of the parent process); each registers again."""
     for name in names:
+        log.debug("importing extension module %s", name)
         importlib.import_module(name)

@@ -56,11 +56,13 @@ def test_merged_shards_are_the_unsharded_run_byte_for_byte(shards, tmp_path, cap
     assert json.loads((out / "run.json").read_text())["status"] == "complete"
 
 
-def test_every_file_of_a_run_and_of_a_merge_is_one_entry_of_the_outputs_list(shards, tmp_path):
+def test_every_file_of_a_run_and_of_a_merge_is_one_entry_of_the_outputs_list(shards, tmp_path, capsys):
     """OUTPUTS is the one list of a run folder's files: each file matches one entry's names, and every entry
     but team.json (a team setting only) has its files in the run and in the merge."""
     out = tmp_path / "merged"
-    assert main(["merge", str(shards / "a"), str(shards / "b"), "--out", str(out), "--quiet"]) == 0
+    assert main(["merge", str(shards / "a"), str(shards / "b"), "--out", str(out), "--quiet", "-v"]) == 0
+    err = capsys.readouterr().err
+    assert "DEBUG ergosim.experiment.run_merge: merging 2 shard(s) of multi-subject" in err
     for folder in (shards / "whole", out):
         names = [p.name for p in folder.iterdir() if p.name != MANIFEST]
         owners = {n: [o.name for o in OUTPUTS if any(fnmatch.fnmatch(n, f) for f in o.files)] for n in names}

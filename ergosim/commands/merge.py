@@ -22,7 +22,8 @@ def add_parser(sub) -> argparse.ArgumentParser:
     )
     p.add_argument("dirs", nargs="+", metavar="DIR", help="run folders written by ergosim run")
     p.add_argument("--out", required=True, help="the merged run folder (not one of the shards)")
-    p.add_argument("--quiet", action="store_true", help="print only where the results are")
+    p.add_argument("-q", "--quiet", action="store_true",
+                   help="print only where the results are; log warnings only")
     return p
 
 

@@ -9,8 +9,8 @@ summary, the printed text and ``run.json`` say which and why); 130 / 143 interru
 from __future__ import annotations
 
 import argparse
+import logging
 import os
-import sys
 from pathlib import Path
 
 from ergosim.commands.plot import add_plot_subject_argument, parse_subjects
@@ -19,6 +19,8 @@ from ergosim.errors import ConfigError, ErgosimError
 from ergosim.overrides import parse_assignments
 
 __all__ = ["add_parser", "run", "subject_range"]
+
+log = logging.getLogger(__name__)
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
@@ -55,7 +57,7 @@ def add_parser(sub) -> argparse.ArgumentParser:
                         "(scene.shelf_height=1.6, scene.parts.L.xy=0.2,0.8), the task "
                         "(task.agents.robot.cost=3), or the task or workcell itself (workcell=FILE); "
                         "docs/workcell_format.md")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar; log warnings only")
     add_plot_subject_argument(p)
     add_video_arguments(p, mode_names())
     return p
@@ -177,10 +179,10 @@ def run(args) -> int:
         print(f"recording: {Path(args.rrd).resolve()}  (open it with: rerun {args.rrd})")
     if result.video is not None:
         print(video_line(result.video, video))
-    print(f"wall time {result.wall:.1f} s", file=sys.stderr)
+    log.info("wall time %.1f s", result.wall)
     if result.status == "abandoned":
         n = result.summary.get("repetitions_abandoned", 0)
-        print(f"ergosim: {n} repetition(s) abandoned: the run is incomplete (exit status 3)", file=sys.stderr)
+        log.warning("ergosim: %d repetition(s) abandoned: the run is incomplete (exit status 3)", n)
         return EXIT_ABANDONED
     return 0
 

@@ -2,11 +2,15 @@
 
 from __future__ import annotations
 
+import logging
+
 from ergosim.experiment.runner import SubjectResult, scenario_subject, subject_cell
 from ergosim.experiment.scenario import Scenario
 from ergosim.video.run_video import VideoRequest, VideoStats, write_run_video
 
 __all__ = ["film_subject"]
+
+log = logging.getLogger(__name__)
 
 
 def film_subject(scenario: Scenario, seed: int, result: SubjectResult, request: VideoRequest, *,
@@ -18,4 +22,5 @@ def film_subject(scenario: Scenario, seed: int, result: SubjectResult, request: 
     cell = subject_cell(scenario, subject)
     mode = request.mode or scenario.protocol.modes[0]
     header = f"{scenario.name} · subject {result.subject} ({result.name}) · {mode}"
+    log.debug("filming subject %d (%s), mode %s, into %s", result.subject, result.name, mode, request.path)
     return write_run_video(cell, result.runs[mode], request, header=header, progress=progress)

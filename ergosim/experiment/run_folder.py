@@ -23,6 +23,7 @@ import contextlib
 import errno
 import fnmatch
 import json
+import logging
 import os
 from pathlib import Path
 
@@ -32,6 +33,8 @@ from ergosim.errors import ConfigError
 from ergosim.experiment.outputs import OUTPUTS
 
 __all__ = ["MANIFEST", "RUN_STATUSES", "OUTPUT_PATTERNS", "RunFolder"]
+
+log = logging.getLogger(__name__)
 
 MANIFEST = "run.json"
 RUN_STATUSES = ("running", "complete", "abandoned", "interrupted", "failed")
@@ -71,6 +74,9 @@ class RunFolder:
             self._undo_mkdir()
             raise ConfigError(f"cannot write into {path}: permission denied", where=self.where)
         self.removed = self._remove_stale()
+        if self.removed:
+            log.debug("removed %d file(s) an earlier run left in %s: %s", len(self.removed), path,
+                      ", ".join(self.removed))
         self.config = config or {}
         try:
             self._write("running", [])

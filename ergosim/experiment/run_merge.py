@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import logging
 import os
 from collections.abc import Sequence
 from pathlib import Path
@@ -26,6 +27,8 @@ from ergosim.experiment.subject_records import RECORDS_FILE, SubjectRecord, read
 from ergosim.experiment.summary import summary_of
 
 __all__ = ["Shard", "MergeResult", "read_shard", "merge_runs"]
+
+log = logging.getLogger(__name__)
 
 _MERGEABLE = ("complete", "abandoned")
 
@@ -120,6 +123,8 @@ def merge_runs(dirs: Sequence[str | os.PathLike[str]], out: str | os.PathLike[st
         raise ConfigError(f"{shards[0].path} is a team-execution run (execution = {config['execution']!r}); "
                           "its team.json is computed from the per-tick logs and cannot be merged from shards",
                           where="ergosim merge")
+    log.debug("merging %d shard(s) of %s (seed %d), subjects %d..%d, into %s", len(shards), name, seed,
+              subjects.start, subjects.stop - 1, out)
     folder = RunFolder(out, scenario=name, seed=seed)
     folder.claim(config)
     records = sorted((r for s in shards for r in s.records), key=lambda r: r.subject)

@@ -7,6 +7,7 @@ i comes from ``SeedSequence([seed, i])``, so a parallel run equals the serial ru
 from __future__ import annotations
 
 import dataclasses
+import logging
 
 import numpy as np
 
@@ -31,6 +32,8 @@ from ergosim.worker.subjects import Subject, make_subjects
 
 __all__ = ["SubjectResult", "Rig", "scenario_subject", "subject_cell", "build_rig", "make_allocator",
            "subject_session", "run_subject"]
+
+log = logging.getLogger(__name__)
 
 
 @dataclasses.dataclass
@@ -182,6 +185,7 @@ def run_subject(scenario: Scenario, index: int, seed: int, modes: tuple[str, ...
     slots = tuple(range(len(modes))) if slots is None else tuple(slots)
     seqs = [np.random.SeedSequence([seed, index], spawn_key=(k,)) for k in (0, *(1 + s for s in slots))]
     calibration, traces, mtm, seconds = _calibrate(scenario, subject, np.random.default_rng(seqs[0]))
+    log.debug("subject %d (%s): calibrated, η %s", index, subject.name, dict(calibration.eta))
     runs: dict[str, SubjectRun] = {}
     for mode, seq in zip(modes, seqs[1:], strict=True):
         session = _session(scenario, index, subject, mode, np.random.default_rng(seq), calibration,

@@ -9,6 +9,7 @@ data, so it travels to worker processes as it is.
 from __future__ import annotations
 
 import dataclasses
+import logging
 import os
 import tomllib
 from collections.abc import Mapping
@@ -28,6 +29,8 @@ from ergosim.twin.protocol import ScenarioConfig
 
 __all__ = ["Scenario", "SCENARIOS", "register_scenario", "scenario_names", "scenario_path", "scenario_info",
            "load_scenario", "scenario_config", "split_overrides"]
+
+log = logging.getLogger(__name__)
 
 _TOP = {"name", "description", "task", "workcell", "protocol"}
 _LABEL_FIELDS = ("scene", "task")
@@ -242,6 +245,7 @@ def load_scenario(name_or_path: str | os.PathLike[str],
     from ergosim.experiment.scenario_check import check_scenario  # noqa: PLC0415
 
     check_scenario(scenario, scenario.task(), cell)
+    log.debug("scenario %s (%s): task %s, workcell %s", name, source, task_source, cell_source)
     return scenario.with_overrides(overrides) if overrides else scenario
 
 

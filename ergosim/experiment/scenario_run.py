@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import concurrent.futures as cf
 import dataclasses
+import logging
 import multiprocessing
 import os
 import time
@@ -33,11 +34,14 @@ from ergosim.experiment.scenario import Scenario
 from ergosim.experiment.subject_records import SubjectRecord
 from ergosim.experiment.summary import summary_of
 from ergosim.experiment.team_metrics import team_document, team_in_summary
+from ergosim.logs import configured_level
 from ergosim.plugins import extension_modules, import_extensions
 from ergosim.progress import Progress
 from ergosim.twin.protocol import ScenarioConfig
 
 __all__ = ["run_scenario", "ScenarioResult", "EXIT_ABANDONED"]
+
+log = logging.getLogger(__name__)
 
 EXIT_ABANDONED = 3
 """Exit status of ``ergosim run`` when every subject finished but a repetition was abandoned."""
@@ -63,6 +67,13 @@ def _job(args) -> SubjectResult:
     scenario, index, seed, modes, record_mode, extensions = args
     import_extensions(extensions)  # a worker process registers the user's modes, indices, kinds too
     return run_subject(scenario, index, seed, modes, record_mode=record_mode)
+
+
+def _finished(results: list[SubjectResult], planned: int) -> None:
+    r = results[-1]
+    done = {m: f"{run.repetitions_completed}/{len(run.outcomes)}" for m, run in r.runs.items()}
+    log.debug("subject %d (%s) finished, %d of %d: repetitions completed %s", r.subject, r.name,
+              len(results), planned, done)
 
 
 def _write(out: Path, name: str, seed: int, cfg: ScenarioConfig, results: list[SubjectResult],
@@ -116,6 +127,8 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
         kept.add((video.subject, video.mode))
     args = [(scenario, i, seed, tuple(cfg.modes), tuple(sorted(m for s, m in kept if s == i)),
              extension_modules()) for i in subjects]
+    log.debug("%s (seed %d): subjects %d..%d, modes %s, %d process(es), into %s", name, seed, subjects.start,
+              subjects.stop - 1, ", ".join(cfg.modes), jobs, out)
     bar = Progress(len(subjects), f"{name}: subjects", enabled=progress)
     results: list[SubjectResult] = []
     start = time.monotonic()
@@ -125,16 +138,19 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
             if jobs == 1:
                 for a in args:
                     results.append(_job(a))
+                    _finished(results, len(subjects))
                     _write(out, name, seed, cfg, results, complete=False, final=False, subjects=subjects)
                     bar.advance()
             else:
                 ctx = multiprocessing.get_context("spawn")
                 with signals_ignored():
-                    pool = cf.ProcessPoolExecutor(max_workers=jobs, mp_context=ctx, initializer=quiet_worker)
+                    pool = cf.ProcessPoolExecutor(max_workers=jobs, mp_context=ctx, initializer=quiet_worker,
+                                                  initargs=(configured_level(),))
                     futures = [pool.submit(_job, a) for a in args]
                 try:
                     for fut in cf.as_completed(futures):
                         results.append(fut.result())
+                        _finished(results, len(subjects))
                         _write(out, name, seed, cfg, results, complete=False, final=False,
                                subjects=subjects)
                         bar.advance()
@@ -163,6 +179,7 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
             else:
                 summary = {}
                 folder.discard()  # an early error leaves no empty output folder behind
+    log.debug("%s: %s, %d subject(s) written to %s", name, status, len(results), out)
     results.sort(key=lambda r: r.subject)
     chosen = [r for r in results if r.subject == record_subject]
     if record_mode is not None and chosen:

@@ -7,6 +7,7 @@ the ergonomics, the worker track supplies the worker's frames, the robot track d
 from __future__ import annotations
 
 import dataclasses
+import logging
 
 import mujoco
 import numpy as np
@@ -23,6 +24,8 @@ from ergosim.twin.ssm_monitor import SafetyMonitor
 from ergosim.worker.motion import Worker
 
 __all__ = ["Session", "Outcome"]
+
+log = logging.getLogger(__name__)
 
 # Time allowed to any single action before it counts as failed [s of simulated time]; the slowest robot
 # action at 0.05 m/s takes about 30 s, the slowest human action about 8 s.
@@ -224,6 +227,7 @@ class Session:
                        f"at t={out.t_end:.1f} s" + (f": {out.message}" if out.message else ""))
                 self.failures.append(Failure(out.t_end, self.subject_index, self.mode, rep, decision.action,
                                              decision.agent, f"failed:{_reason(out.status)}", msg))
+                log.debug("subject %d, %s: %s", self.subject_index, self.mode, msg)
                 attempts[decision.action] = attempts.get(decision.action, 0) + 1
                 if (decision.agent != alloc.human or out.status.startswith("unreachable")
                         or attempts[decision.action] >= _HUMAN_ATTEMPTS):
@@ -338,6 +342,7 @@ class Session:
         """Record an abandoned repetition: a ``pruned`` row per action whose every allowed agent failed."""
         alloc, t = self.allocator, self.plant.time
         msg = f"repetition {rep}: abandoned, {why}"
+        log.debug("subject %d, %s: %s", self.subject_index, self.mode, msg)
         self.failures.append(Failure(t, self.subject_index, self.mode, rep, "", "", "abandoned", msg))
         self.outcomes.append(RepetitionOutcome(self.subject_index, self.mode, rep, "abandoned", why))
         done_actions = {alloc._action_of[o] for o in done}
