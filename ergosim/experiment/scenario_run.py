@@ -17,6 +17,7 @@ import logging
 import multiprocessing
 import os
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 from ergosim.experiment.interrupt import (
@@ -110,8 +111,7 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
     subjects the timelines and the per-action figure show (default: every subject). ``subjects``: run only
     these subjects of the population (a shard, ``ergosim run --subject-range``; default all), each seeded
     as in the whole run. SIGINT and SIGTERM stop the run the same way: the finished subjects are written,
-    then
-    :class:`~ergosim.experiment.interrupt.Interrupted` propagates.
+    then :class:`~ergosim.experiment.interrupt.Interrupted` propagates.
     """
     name, cfg = scenario.name, scenario.protocol
     out = Path(out)
@@ -133,31 +133,16 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
     results: list[SubjectResult] = []
     start = time.monotonic()
     status, reason = "failed", ""
+
+    def finished(result: SubjectResult) -> None:
+        results.append(result)
+        _finished(results, len(subjects))
+        _write(out, name, seed, cfg, results, complete=False, final=False, subjects=subjects)
+        bar.advance()
+
     try:
         with interrupt_on_signals():
-            if jobs == 1:
-                for a in args:
-                    results.append(_job(a))
-                    _finished(results, len(subjects))
-                    _write(out, name, seed, cfg, results, complete=False, final=False, subjects=subjects)
-                    bar.advance()
-            else:
-                ctx = multiprocessing.get_context("spawn")
-                with signals_ignored():
-                    pool = cf.ProcessPoolExecutor(max_workers=jobs, mp_context=ctx, initializer=quiet_worker,
-                                                  initargs=(configured_level(),))
-                    futures = [pool.submit(_job, a) for a in args]
-                try:
-                    for fut in cf.as_completed(futures):
-                        results.append(fut.result())
-                        _finished(results, len(subjects))
-                        _write(out, name, seed, cfg, results, complete=False, final=False,
-                               subjects=subjects)
-                        bar.advance()
-                except BaseException:
-                    stop_pool(pool)
-                    raise
-                pool.shutdown()
+            _simulate(args, jobs, finished)
         status = "complete"
     except BaseException as err:
         status, reason = stop_reason(err)
@@ -183,11 +168,7 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
     results.sort(key=lambda r: r.subject)
     chosen = [r for r in results if r.subject == record_subject]
     if record_mode is not None and chosen:
-        subject = scenario_subject(scenario, record_subject, seed)
-        cell = subject_cell(scenario, subject)
-        view = cell.config.view()
-        record_run(recorder, cell.model, chosen[0].runs[record_mode], cfg.cost.v_th, cell.parts,
-                   view=(view.azimuth, view.elevation))
+        _record(recorder, scenario, seed, chosen[0], record_mode)
     filmed = None
     chosen = [r for r in results if video is not None and r.subject == video.subject]
     if chosen:
@@ -196,3 +177,33 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
         with interrupt_on_signals():  # SIGTERM too leaves no half-written video
             filmed = film_subject(scenario, seed, chosen[0], video, progress=progress)
     return ScenarioResult(results, summary, out, time.monotonic() - start, status, filmed)
+
+
+def _simulate(args: list, jobs: int, finished: Callable[[SubjectResult], None]) -> None:
+    """Run every subject's ``_job``: in this process (``jobs`` 1) or on a pool of ``jobs`` spawned workers
+    (which log as this process does), calling ``finished`` with each result as it comes. An error or a
+    signal stops the pool's workers before it propagates."""
+    if jobs == 1:
+        for a in args:
+            finished(_job(a))
+        return
+    ctx = multiprocessing.get_context("spawn")
+    with signals_ignored():
+        pool = cf.ProcessPoolExecutor(max_workers=jobs, mp_context=ctx, initializer=quiet_worker,
+                                      initargs=(configured_level(),))
+        futures = [pool.submit(_job, a) for a in args]
+    try:
+        for fut in cf.as_completed(futures):
+            finished(fut.result())
+    except BaseException:
+        stop_pool(pool)
+        raise
+    pool.shutdown()
+
+
+def _record(recorder, scenario: Scenario, seed: int, result: SubjectResult, mode: str) -> None:
+    """Log ``result``'s run in ``mode`` to the rerun ``recorder``, in the cell the subject ran in."""
+    cell = subject_cell(scenario, scenario_subject(scenario, result.subject, seed))
+    view = cell.config.view()
+    record_run(recorder, cell.model, result.runs[mode], scenario.protocol.cost.v_th, cell.parts,
+               view=(view.azimuth, view.elevation))
