@@ -8,6 +8,10 @@ a kinematic human.
 
 __version__ = "0.1.0"
 
+import logging  # noqa: E402
+
+logging.getLogger("ergosim").addHandler(logging.NullHandler())  # a library: the application decides
+
 from ergosim.errors import (  # noqa: E402
     ConfigError,
     ErgosimError,

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from ergosim.cli import main
+from ergosim.experiment.scenario import load_scenario, scenario_names
 from ergosim.scenes import build_cell
-from ergosim.twin.scenariofile import load_scenario, scenario_names
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENARIOS = [*scenario_names(), str(ROOT / "examples/own_workcell/bracket.toml")]

@@ -12,10 +12,10 @@ import numpy as np
 import pytest
 
 from ergosim.cli import main
+from ergosim.experiment.scenario import load_scenario
 from ergosim.posture import KWEAR_JOINTS
 from ergosim.robot.panda import PANDA
 from ergosim.scenes import build_scene
-from ergosim.twin.scenariofile import load_scenario
 from ergosim.viz import RecordingReader
 
 

@@ -15,11 +15,12 @@ from ergosim.ergonomics.cost import CostParams
 from ergosim.ergonomics.kwear import kwear_step
 from ergosim.ergonomics.reba import REBA_JOINTS, REBA_PARTS
 from ergosim.ergonomics.risk_index import RiskIndex
+from ergosim.experiment.runner import scenario_subject
 from ergosim.posture import ANGLE_NAMES
 from ergosim.twin.features import REBA_COLUMNS
 from ergosim.twin.modes import Mode, RiskIndexEntry, register_mode, register_risk_index
 from ergosim.twin.records import TICK_COLUMNS
-from ergosim.twin.runner import scenario_subject
+from ergosim.viz.reason import reason_text
 
 
 @pytest.fixture(scope="module")
@@ -59,7 +60,7 @@ def test_the_reba_driven_v_follows_eq_3_to_5_on_the_logged_scores(reba_run):
     by_part = [col[f"reba_{p}"] for p in ("upper_arm", "lower_arm", "wrist", "trunk", "neck", "legs")]
     kwear = [col[f"kwear_{j}"] for j in REBA_JOINTS]
     v = np.zeros(len(REBA_JOINTS))
-    dt = 1.0 / sc.protocol.ergonomics_rate
+    dt = 1.0 / sc.protocol.sensing.ergonomics_rate
     for r in mine:
         acting = float(r[col["acting"]]) == 1.0
         g = np.array([float(r[i]) for i in by_part])
@@ -82,7 +83,7 @@ def test_summary_has_reba_figures(reba_run):
     reba_rows = [a for a in res.allocations if a.mode == "reba" and a.done]
     assert all(a.agent == "human" for a in reba_rows) and max(g.values()) < 8
     for d in (d for run in res.runs("reba") for d in run.decisions):
-        assert "REBA G=" in d.reason
+        assert "REBA G=" in reason_text(d)
 
 
 def test_the_static_reba_baseline_sends_actions_over_its_threshold_to_the_robot(tmp_path):
@@ -122,11 +123,11 @@ def test_an_index_on_joint_angles_reads_the_angles(tmp_path):
     register_risk_index(RiskIndexEntry(
         "trunk-angle", lambda ctx: (TrunkAngleIndex(), CostParams(gamma=1.5, v_th=0.9, robot_cost=2.0,
                                                                   v_max=1.0)),
-        lambda *a: "trunk angle", features="angles"))
+        features="angles"))
     register_mode(Mode("trunk", "largest trunk flexion", risk_index="trunk-angle"))
     sc = api.load("multi-subject", modes=["trunk"], subjects=1, repetitions=1, eta_max=2)
     res = api.run(sc, out=tmp_path / "angles")
     decisions = [d for run in res.runs("trunk") for d in run.decisions]
-    assert decisions and all(d.reason == "trunk angle" for d in decisions)
+    assert decisions and all(d.basis.index == "trunk-angle" for d in decisions)
     peak = max(float(np.asarray(d.v_hat[d.action])[0]) for d in decisions)
     assert 0 < peak < 1  # some trunk flexion, in degrees / 90

@@ -11,13 +11,13 @@ import pytest
 
 from ergosim.cli import main
 from ergosim.errors import ConfigError
+from ergosim.experiment.scenario import load_scenario
+from ergosim.experiment.scenario_check import _handover_clearance, robot_refusals
 from ergosim.robot import get_robot, robot_names
 from ergosim.robot.capability import refusal
 from ergosim.robot.panda import PANDA
 from ergosim.robot.ur5 import UR5
 from ergosim.scenes import build_cell
-from ergosim.twin.scenario_check import _handover_clearance, robot_refusals
-from ergosim.twin.scenariofile import load_scenario
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -14,7 +14,7 @@ __all__ = ["add_parser", "run"]
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
-    from ergosim.twin.scenariofile import scenario_names  # noqa: PLC0415 - keep `ergosim --help` fast
+    from ergosim.experiment.scenario import scenario_names  # noqa: PLC0415 - keep `ergosim --help` fast
 
     p = sub.add_parser(
         "export", help="write a scenario's compiled scene as a self-contained MJCF folder (plain MuJoCo)",
@@ -30,8 +30,8 @@ def add_parser(sub) -> argparse.ArgumentParser:
 
 
 def run(args) -> int:
+    from ergosim.experiment.scenario import load_scenario  # noqa: PLC0415
     from ergosim.scenes.export import export_cell  # noqa: PLC0415
-    from ergosim.twin.scenariofile import load_scenario  # noqa: PLC0415
 
     scenario = load_scenario(args.scenario, parse_assignments(args.assign))
     spec = scenario.cell()

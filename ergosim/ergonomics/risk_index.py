@@ -56,6 +56,8 @@ class RiskIndex(ABC):
     features: str = "rula"
     joints: tuple[str, ...] = KWEAR_JOINTS
     channels: tuple[str, ...] = KWEAR_JOINTS
+    scale: float = 1.0
+    """A predicted value × ``scale`` is the index's own unit, for display (the static RULA index: G_max)."""
 
     def __init__(self, joints: tuple[str, ...] | None = None) -> None:
         if joints is not None:
@@ -208,6 +210,7 @@ class StaticRulaIndex(RiskIndex):
                               where=type(self).__name__)
         self.g_actions = dict(g_actions)
         self.g_max = float(g_max)
+        self.scale = self.g_max  # predictions are G / G_max
 
     @classmethod
     def from_worker(cls, worker, g_max: float = 9.0) -> StaticRulaIndex:

@@ -62,7 +62,7 @@ def check_scenario(scenario, task: AndOrGraph, cell: CellSpec) -> None:
     cfg = scenario.protocol
     for name, model in models.items():
         for field in ("ee_speed", "transit_speed"):
-            speed = getattr(cfg, field)
+            speed = getattr(cfg.robot, field)
             if speed > model.max_speed:
                 raise ConfigError(f"{field} must be at most {model.max_speed:g} m/s (the {model.name}'s "
                                   f"Cartesian limit, robot {name!r}), got {speed:g}",

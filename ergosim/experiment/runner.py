@@ -7,6 +7,7 @@ i comes from ``SeedSequence([seed, i])``, so a parallel run equals the serial ru
 from __future__ import annotations
 
 import dataclasses
+import logging
 
 import numpy as np
 
@@ -14,6 +15,8 @@ from ergosim.ergonomics.features import feature as feature_spec
 from ergosim.ergonomics.kwear import KWearParams, kwear_trajectory
 from ergosim.ergonomics.risk_index import KWearIndex
 from ergosim.errors import ConfigError
+from ergosim.experiment.scenario import Scenario
+from ergosim.experiment.scenario_check import robot_refusals
 from ergosim.posture import KWEAR_JOINTS
 from ergosim.scenes import Workcell, build_cell
 from ergosim.twin.allocator import Allocator
@@ -24,8 +27,6 @@ from ergosim.twin.loop import Plant
 from ergosim.twin.modes import IndexContext, get_mode, get_risk_index
 from ergosim.twin.records import SubjectRun
 from ergosim.twin.robot_track import RobotTrack
-from ergosim.twin.scenario_check import robot_refusals
-from ergosim.twin.scenariofile import Scenario
 from ergosim.twin.session import Session
 from ergosim.twin.team_setup import make_session
 from ergosim.twin.worker_track import WorkerTrack
@@ -34,6 +35,8 @@ from ergosim.worker.subjects import Subject, make_subjects
 
 __all__ = ["SubjectResult", "Rig", "scenario_subject", "subject_cell", "build_rig", "make_allocator",
            "subject_session", "run_subject"]
+
+log = logging.getLogger(__name__)
 
 
 @dataclasses.dataclass
@@ -69,7 +72,7 @@ class Rig:
     graph: object
     refused: frozenset = frozenset()
     """(action, robot) pairs a robot of the cell cannot do
-    (:func:`~ergosim.twin.scenario_check.robot_refusals`)."""
+    (:func:`~ergosim.experiment.scenario_check.robot_refusals`)."""
 
     @property
     def robot(self) -> RobotTrack | None:
@@ -80,8 +83,8 @@ class Rig:
 def scenario_subject(scenario: Scenario, index: int, seed: int) -> Subject:
     """Subject ``index`` of ``seed``'s population, drawn as the scenario's protocol says (female fraction,
     pace); it depends only on (seed, index)."""
-    cfg = scenario.protocol
-    return make_subjects(index + 1, seed, female_fraction=cfg.female_fraction, pace=cfg.pace)[index]
+    people = scenario.protocol.population
+    return make_subjects(index + 1, seed, female_fraction=people.female_fraction, pace=people.pace)[index]
 
 
 def subject_cell(scenario: Scenario, subject: Subject) -> Workcell:
@@ -108,17 +111,20 @@ def build_rig(scenario: Scenario, subject: Subject, rng: np.random.Generator, re
     calibrated α per action on that feature); the worker's frames are scored with every feature the
     scenario's modes read."""
     cfg = scenario.protocol
+    sensing = cfg.sensing
     cell = subject_cell(scenario, subject)
     subject = _subject_in(cell, subject)
     extra = [f for f in scenario_features(scenario) if f != "rula"]
-    track = WorkerTrack.for_subject(subject, rng, rate=cfg.mocap_rate, dropout_rate=cfg.dropout_rate,
-                                    noise=cfg.noise_scale,
+    track = WorkerTrack.for_subject(subject, rng, rate=sensing.mocap_rate, dropout_rate=sensing.dropout_rate,
+                                    noise=sensing.noise_scale,
                                     scorer=FeatureScorer(extra, cell_hold(cell)) if extra else None)
-    kwear = KWearIndex(subject.kwear_params(), alphas or {}, online_weight=cfg.online_alpha_weight,
+    kwear = KWearIndex(subject.kwear_params(), alphas or {},
+                       online_weight=cfg.calibration.online_alpha_weight,
                        features=feature, joints=feature_spec(feature).joints)
-    plant = Plant(cell, track, kwear, mocap_rate=cfg.mocap_rate,
-                  ergonomics_rate=cfg.ergonomics_rate, physics_dt=cfg.physics_dt, record_bodies=record_bodies)
-    robots = {r: RobotTrack(cell, ee_speed=cfg.ee_speed, transit_speed=cfg.transit_speed, robot=r)
+    plant = Plant(cell, track, kwear, mocap_rate=sensing.mocap_rate,
+                  ergonomics_rate=sensing.ergonomics_rate, physics_dt=sensing.physics_dt,
+                  record_bodies=record_bodies)
+    robots = {r: RobotTrack(cell, ee_speed=cfg.robot.ee_speed, transit_speed=cfg.robot.transit_speed, robot=r)
               for r in cell.robots}
     plant.robot = next(iter(robots.values()), None)
     graph = scenario.task()
@@ -131,18 +137,20 @@ def _calibrate(scenario: Scenario, subject: Subject, rng: np.random.Generator):
     Calibration, ``rula`` first); also return the first pass's KWear traces and MTM-1 analyses, and the mean
     duration of each action's executions [s] (the worker's expected durations), both from the RULA
     calibration's passes."""
-    cfg = scenario.protocol
+    sensing, calibration = scenario.protocol.sensing, scenario.protocol.calibration
     cell = subject_cell(scenario, subject)
     subject = _subject_in(cell, subject)
     features = scenario_features(scenario)
-    cal = SceneCalibration.for_subject(cell, subject, rng, mocap_rate=cfg.mocap_rate,
-                                       ergonomics_rate=cfg.ergonomics_rate, actions=scenario.task().actions,
-                                       dropout_rate=cfg.dropout_rate, noise=cfg.noise_scale,
+    cal = SceneCalibration.for_subject(cell, subject, rng, mocap_rate=sensing.mocap_rate,
+                                       ergonomics_rate=sensing.ergonomics_rate,
+                                       actions=scenario.task().actions,
+                                       dropout_rate=sensing.dropout_rate, noise=sensing.noise_scale,
                                        features=features)
     params = subject.kwear_params()
-    result = cal.run(params, eta0=cfg.eta0, eta_max=cfg.eta_max, v_des=cfg.v_des)
+    eta = {"eta0": calibration.eta0, "eta_max": calibration.eta_max, "v_des": calibration.v_des}
+    result = cal.run(params, **eta)
     passes = list(cal.passes)  # the paper's (RULA) passes: what the durations and traces come from
-    others = {f: cal.run(params, eta0=cfg.eta0, eta_max=cfg.eta_max, v_des=cfg.v_des, feature=f)
+    others = {f: cal.run(params, **eta, feature=f)
               for f in features if f != "rula" and feature_spec(f).whole is not None}
     traces = {}
     for action, ex in passes[0].items():
@@ -224,11 +232,12 @@ def run_subject(scenario: Scenario, index: int, seed: int, modes: tuple[str, ...
     slots = tuple(range(len(modes))) if slots is None else tuple(slots)
     seqs = [np.random.SeedSequence([seed, index], spawn_key=(k,)) for k in (0, *(1 + s for s in slots))]
     calibrations, traces, mtm, seconds = _calibrate(scenario, subject, np.random.default_rng(seqs[0]))
+    log.debug("subject %d (%s): calibrated, η %s", index, subject.name, dict(calibrations["rula"].eta))
     runs: dict[str, SubjectRun] = {}
     for mode, seq in zip(modes, seqs[1:], strict=True):
         session = _session(scenario, index, subject, mode, np.random.default_rng(seq), calibrations,
                            record_bodies=mode in recorded, seed=seed, human_seconds=seconds)
-        runs[mode] = session.run(cfg.repetitions)
+        runs[mode] = session.run(cfg.pacing.repetitions)
         runs[mode].calibration_eta = calibrations[_feature_of(mode)].eta
     calibration = calibrations["rula"]
     reba = calibrations.get("reba")
