@@ -18,10 +18,9 @@ its result.
 
 from __future__ import annotations
 
-import dataclasses
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Generator, Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import NamedTuple
 
 import mujoco
@@ -131,7 +130,7 @@ class Skill(ABC):
         self.holder = handle.name  # the holder name of the robot (its task agent)
         self.part = part
         self.kin = kin or ArmKinematics(handle.robot, workcell.robot_home(handle.name))
-        self.params = dataclasses.replace(params, limits=params.limits.for_robot(handle.robot))
+        self.params = replace(params, limits=params.limits.for_robot(handle.robot))
         m = workcell.model
         self.dt = float(m.opt.timestep)
         self._arm_q = handle.arm_qpos
