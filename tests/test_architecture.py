@@ -47,7 +47,7 @@ LAYER_ALLOWANCES = {
 MODULE_LINES = 400
 MODULE_ALLOWANCES = {
     "ergosim/robot/skills.py": (678, "robot skills, planned and executed; issue 25 (archcore) splits it"),
-    "ergosim/scenes/cellfile.py": (544, "one file format: a workcell file's keys, parsed and checked"),
+    "ergosim/scenes/cellfile.py": (553, "one file format: a workcell file's keys, parsed and checked"),
     "ergosim/sweep/design.py": (503, "one file format: a sweep file's axes, designs and cells"),
 }
 # (module, function) -> its line count cap
