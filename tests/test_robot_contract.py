@@ -25,7 +25,7 @@ ROOT = Path(__file__).resolve().parents[1]
 def test_registry():
     assert get_robot("panda") is PANDA and get_robot("ur5") is UR5
     assert {"panda", "ur5"} <= set(robot_names())
-    with pytest.raises(ConfigError, match="unknown robot model 'kuka'; models: panda, ur5"):
+    with pytest.raises(ConfigError, match="unknown robot model 'kuka'; valid robot models: panda, ur5"):
         get_robot("kuka")
 
 

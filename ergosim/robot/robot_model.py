@@ -17,13 +17,12 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from ergosim.errors import ConfigError
-from ergosim.plugins import note_caller
+from ergosim.registry import Registry
 from ergosim.robot.mjcf import MjcfRecipe
 from ergosim.robot.urdf import Urdf
 
-__all__ = ["Gripper", "Mount", "AddedFrame", "RobotModel", "register_robot", "robot_names", "get_robot",
-           "default_robot"]
+__all__ = ["Gripper", "Mount", "AddedFrame", "RobotModel", "ROBOTS", "register_robot", "robot_names",
+           "get_robot", "default_robot"]
 
 
 @dataclass(frozen=True)
@@ -118,30 +117,26 @@ class RobotModel:
         return self.recipe.home
 
 
-_ROBOTS: dict[str, RobotModel] = {}
+ROBOTS: Registry[RobotModel] = Registry("robot model", where="robot.model")
+"""The robot models by name (a workcell's ``robots.NAME.model``)."""
 
 
 def register_robot(model: RobotModel) -> RobotModel:
     """Make ``model`` available as a workcell's ``robot.model`` (in worker processes too); returns it."""
-    note_caller()
-    _ROBOTS[model.name] = model
+    ROBOTS.register(model.name, model)
     return model
 
 
 def robot_names() -> tuple[str, ...]:
-    return tuple(_ROBOTS)
+    return ROBOTS.names()
 
 
 def default_robot() -> str:
     """The model a workcell's robot is when its file names none: the first registered (``ergosim.robot``
     registers its bundled robots first, in the order it imports them)."""
-    return next(iter(_ROBOTS))
+    return ROBOTS.names()[0]
 
 
 def get_robot(name: str) -> RobotModel:
     """The registered robot model ``name``; ConfigError naming the choices."""
-    try:
-        return _ROBOTS[name]
-    except KeyError:
-        raise ConfigError(f"unknown robot model {name!r}; models: {', '.join(_ROBOTS)}",
-                          where="robot.model") from None
+    return ROBOTS.get(name)

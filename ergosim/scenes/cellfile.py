@@ -419,7 +419,7 @@ def _check(spec: CellSpec, at) -> None:
     for r in spec.robots:
         entry = f"robots.{r.name}"
         need(r.model in robot_names(), f"{entry}.model",
-             f"unknown robot model {r.model!r}; models: {', '.join(robot_names())}")
+             f"unknown robot model {r.model!r}; valid robot models: {', '.join(robot_names())}")
         need(0.0 <= r.park_clearance <= 2.0, f"{entry}.park_clearance",
              f"must be in [0, 2] m, got {r.park_clearance}")
         need(r.support is None or r.support in surfaces, f"{entry}.support",
