@@ -355,7 +355,7 @@ class Session:
         msg = f"repetition {rep}: abandoned, {why}"
         self.failures.append(Failure(t, self.subject_index, self.mode, rep, "", "", "abandoned", msg))
         self.outcomes.append(RepetitionOutcome(self.subject_index, self.mode, rep, "abandoned", why))
-        done_actions = {alloc._action_of[o] for o in done}
+        done_actions = {alloc.action_of(o) for o in done}
         cut = alloc.base_pruned | pruned
         for action in alloc.graph.actions:
             agents = alloc.allowed[action]
