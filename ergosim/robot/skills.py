@@ -26,6 +26,7 @@ from typing import NamedTuple
 import mujoco
 import numpy as np
 
+from ergosim.quat import to_mat
 from ergosim.robot.ik import solve_ik
 from ergosim.robot.kinematics import PandaKinematics
 from ergosim.robot.status import SKILL_PHASES, SkillResult, SkillStatus
@@ -105,12 +106,6 @@ def _runs(labels: np.ndarray) -> list[tuple[str, int]]:
     return [(str(labels[i]), int(j - i)) for i, j in zip(edges[:-1], edges[1:])]
 
 
-def _quat_to_mat(q: np.ndarray) -> np.ndarray:
-    m = np.empty(9)
-    mujoco.mju_quat2Mat(m, np.asarray(q, dtype=float))
-    return m.reshape(3, 3)
-
-
 def _flip_z(rot: np.ndarray) -> np.ndarray:
     """The same top-down grasp turned 180 deg about the TCP z axis (fingers swap sides)."""
     return rot @ np.diag([-1.0, -1.0, 1.0])
@@ -141,7 +136,7 @@ class Skill(ABC):
                       for f in handle.fingers]
         self._gripper_open = handle.gripper_open(m)
         pos, quat = workcell.robot_base_pose(handle.name)
-        self.base = BaseFrame(pos, _quat_to_mat(quat))
+        self.base = BaseFrame(pos, to_mat(quat))
         self._steps = 0
         self._arrival = float("nan")
         self._phase = "transit"
@@ -202,7 +197,7 @@ class Skill(ABC):
 
     def _site_world(self, name: str) -> Pose:
         pos, quat = self.wc.site_pose(name)
-        return Pose(pos, _quat_to_mat(quat))
+        return Pose(pos, to_mat(quat))
 
     def _plan(self, q0: np.ndarray, waypoints: list[_Waypoint], phase: str | None = None) -> _Motion:
         """Chain moves through world ``waypoints`` from configuration ``q0``.
@@ -428,7 +423,7 @@ class _Carry(Skill):
         that is done sooner is taken: with the wrist near a limit, one of them may need the wrist wound the
         long way round, there or on the way home."""
         part_pos, part_quat = self.wc.body_pose(self.part)
-        part_rot = _quat_to_mat(part_quat)
+        part_rot = to_mat(part_quat)
         q0, tcp0 = self._q(), self._tcp_world()
         p = self.params
         up = np.array([0.0, 0.0, 1.0])
@@ -463,7 +458,7 @@ class _Carry(Skill):
         g, target, approach_dir, stand, contact = self._plan_args
         tcp = self._tcp_world()
         pos, quat = self.wc.body_pose(self.part)
-        rel_p, rel_r = tcp.rot.T @ (pos - tcp.pos), tcp.rot.T @ _quat_to_mat(quat)
+        rel_p, rel_r = tcp.rot.T @ (pos - tcp.pos), tcp.rot.T @ to_mat(quat)
         way, _ = self._carry_waypoints(g, rel_p, rel_r, target, approach_dir, stand, contact)
         try:
             return self._plan(self._planned_q_grasp, way)
@@ -533,7 +528,7 @@ class PickPlace(_Carry):
                  hold: float = 0.0, receive: bool = False, kin: PandaKinematics | None = None,
                  params: SkillParams = SkillParams(), robot: str | None = None) -> None:
         super().__init__(workcell, part, kin, params, robot)
-        self.target = Pose(np.asarray(target_pos, dtype=float), _quat_to_mat(target_quat))
+        self.target = Pose(np.asarray(target_pos, dtype=float), to_mat(target_quat))
         a = np.array([0.0, 0.0, 1.0]) if approach is None else np.asarray(approach, dtype=float)
         self.approach_dir = a / np.linalg.norm(a)
         self.seat = seat
@@ -616,7 +611,7 @@ class Handover(_Carry):
                  kin: PandaKinematics | None = None, params: SkillParams = SkillParams(),
                  robot: str | None = None) -> None:
         super().__init__(workcell, part, kin, params, robot)
-        self.target = Pose(np.asarray(pos, dtype=float), _quat_to_mat(quat))
+        self.target = Pose(np.asarray(pos, dtype=float), to_mat(quat))
         self.taken = taken or _worker_holds(part)
         self.hand_error = float("nan")
 

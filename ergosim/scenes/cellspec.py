@@ -9,7 +9,6 @@ Parsing and every check that needs no physics live in :mod:`ergosim.scenes.cellf
 from __future__ import annotations
 
 import dataclasses
-import math
 from typing import Literal
 
 import numpy as np
@@ -354,16 +353,3 @@ def quat_axis_to(axis_from: str, axis: tuple[float, float, float]) -> np.ndarray
     v = np.cross(src, dst)
     q = np.array([1.0 + c, *v])
     return q / np.linalg.norm(q)
-
-
-def yaw_quat(yaw_deg: float) -> list[float]:
-    h = math.radians(yaw_deg) / 2
-    return [math.cos(h), 0.0, 0.0, math.sin(h)]
-
-
-def rpy_quat(rpy_deg) -> np.ndarray:
-    """wxyz of roll, pitch, yaw [deg] applied about fixed x, y, z (R = Rz Ry Rx)."""
-    r, p, y = (math.radians(a) / 2 for a in rpy_deg)
-    cr, sr, cp, sp, cy, sy = math.cos(r), math.sin(r), math.cos(p), math.sin(p), math.cos(y), math.sin(y)
-    return np.array([cr * cp * cy + sr * sp * sy, sr * cp * cy - cr * sp * sy,
-                     cr * sp * cy + sr * cp * sy, cr * cp * sy - sr * sp * cy])
