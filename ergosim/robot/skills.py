@@ -18,6 +18,7 @@ its result.
 
 from __future__ import annotations
 
+import math
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Generator, Iterator
 from dataclasses import dataclass
@@ -265,9 +266,13 @@ class Skill(ABC):
                 yield
             i += n
 
+    def _pause_steps(self, seconds: float) -> int:
+        """Physics steps of a pause of ``seconds`` (at least one)."""
+        return max(1, int(round(seconds / self.dt)))
+
     def _hold(self, seconds: float, phase: str = "gripper") -> Iterator[None]:
         self._phase = phase
-        for _ in range(max(1, int(round(seconds / self.dt)))):
+        for _ in range(self._pause_steps(seconds)):
             yield
 
     def _touching(self, body: int) -> tuple[bool, bool]:
@@ -386,9 +391,11 @@ class _Carry(Skill):
                           + np.abs(rot[2]) @ m.geom_aabb[g, 3:])
         return float(min(tip + (top - grasp_z) + self.params.contact_margin, self.params.approach))
 
-    def _gripper_time(self) -> float:
-        """Closing on the part and opening again at ``finger_speed`` [s]."""
-        return 2.0 * max(0.0, self._gripper_open - self.width / 2) / self.params.finger_speed
+    def _gripper_steps(self) -> int:
+        """Physics steps of closing on the part and opening again at ``finger_speed`` (the closing ends
+        where the fingers touch the part, its width apart)."""
+        travel = max(0.0, self._gripper_open - self.width / 2)
+        return 2 * max(1, math.ceil(travel / (self.params.finger_speed * self.dt)))
 
     def _carry_waypoints(self, g: Pose, rel_p: np.ndarray, rel_r: np.ndarray, target: Pose,
                          approach_dir: np.ndarray, stand: float,
@@ -547,8 +554,9 @@ class PickPlace(_Carry):
             reach, carry, _, leave = self._plan_carry(self.target, self.approach_dir, stand, contact)
         except PathError:
             return float("nan")
-        steps = len(reach.q) + len(carry.q) + len(leave.q)
-        return steps * self.dt + self._gripper_time() + 0.1 + 3 * p.settle + self.hold
+        steps = len(reach.q) + len(carry.q) + len(leave.q) + self._gripper_steps() + self._pause_steps(0.1)
+        steps += 4 * self._pause_steps(p.settle) + (self._pause_steps(self.hold) if self.hold > 0 else 0)
+        return steps * self.dt
 
     def _program(self) -> Program:
         p = self.params
@@ -625,8 +633,9 @@ class Handover(_Carry):
             reach, carry, _, leave = self._plan_carry(self.target, up, self.zone, self.zone)
         except PathError:
             return float("nan")
-        steps = len(reach.q) + len(carry.q) + len(leave.q)
-        return steps * self.dt + self._gripper_time() + 0.1 + 2 * self.params.settle
+        steps = len(reach.q) + len(carry.q) + len(leave.q) + self._gripper_steps() + self._pause_steps(0.1)
+        steps += 2 * self._pause_steps(self.params.settle)
+        return steps * self.dt
 
     def _program(self) -> Program:
         p = self.params
