@@ -8,10 +8,11 @@ re-plans from any configuration with the ``fast`` (bottom-up) or ``paper`` (Algo
 
 from ergosim.planner.agents import Agent, Operation
 from ergosim.planner.bundled import BUNDLED_TASKS, bundled_task, bundled_task_source, bundled_task_text
-from ergosim.planner.compiled import CompiledGraph, OperationTable
+from ergosim.planner.compiled import CompiledGraph
 from ergosim.planner.generators import generate_task
 from ergosim.planner.graph import PLANNERS, AndOrGraph
 from ergosim.planner.liaisons import Liaison
+from ergosim.planner.op_table import OperationTable
 from ergosim.planner.outside import outside_costs, through_costs
 from ergosim.planner.paper_search import SearchBudgetExceeded
 from ergosim.planner.plan import Plan, PlanStep

@@ -4,8 +4,9 @@ A task (parts, agents, operations) is compiled once. Nodes are sub-assemblies, e
 parts; they are indexed in topological order (by number of parts, then by part indices), so a child's
 index is always below its father's, and the root (the full assembly, Θ_f) is last. Operations keep the
 task's order. Hyper-arcs (one per operation and allowed agent) are laid out for the bottom-up pass
-(:mod:`ergosim.planner.layout`); the per-operation table (:class:`OperationTable`) and the paper search's
-edge lists are derived on first use, by the graph itself.
+(:mod:`ergosim.planner.layout`); the per-operation table (:mod:`ergosim.planner.op_table`), the paper
+search's edge lists and the free-order groups (:mod:`ergosim.planner.free_order`) are derived on first
+use, by the graph itself.
 
 The planners (:mod:`~ergosim.planner.bottom_up`, :mod:`~ergosim.planner.paper_search`,
 :mod:`~ergosim.planner.outside`, :mod:`~ergosim.planner.team`) take a :class:`CompiledGraph` and read only
@@ -17,39 +18,18 @@ from __future__ import annotations
 
 import functools
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass
 
 import numpy as np
 
 from ergosim.errors import ConfigError, InfeasiblePlanError, TaskFileError
+from ergosim.planner import free_order
 from ergosim.planner.agents import Agent, Operation
+from ergosim.planner.frozen import FrozenDict, read_only
 from ergosim.planner.layout import Layout, build_layout
+from ergosim.planner.op_table import OperationTable, build_operation_table
 from ergosim.planner.validation import check_agents, check_operation, check_parts, format_parts
 
-__all__ = ["CompiledGraph", "OperationTable"]
-
-
-@dataclass(frozen=True)
-class OperationTable:
-    """Per-operation arrays of a compiled graph (read-only).
-
-    ``op_perm`` (n_hyperarcs,) hyper-arc indices grouped by operation, ``op_start`` (n_ops + 1,) where each
-    operation's group starts; ``op_children`` (n_ops, k) child nodes padded with the dummy node
-    ``n_nodes``; ``op_father`` (n_ops,); ``levels``: per father size, largest first, (operation indices,
-    their fathers, their child columns (k, m)); ``others``: for each child slot j, the other slots;
-    ``action_ops``: action label -> its operations' indices."""
-
-    op_perm: np.ndarray
-    op_start: np.ndarray
-    op_children: np.ndarray
-    op_father: np.ndarray
-    levels: tuple[tuple[np.ndarray, np.ndarray, np.ndarray], ...]
-    others: tuple[tuple[int, ...], ...]
-    action_ops: Mapping[str, np.ndarray]
-
-    def hyperarcs(self, op: int) -> np.ndarray:
-        """The hyper-arcs of operation ``op`` (one per allowed agent), in layout order."""
-        return self.op_perm[self.op_start[op]:self.op_start[op + 1]]
+__all__ = ["CompiledGraph"]
 
 
 class CompiledGraph:
@@ -93,12 +73,12 @@ class CompiledGraph:
         put = functools.partial(object.__setattr__, self)
         put("name", name)
         put("source", source or name)
-        put("origins", _FrozenDict(dict(origins or {})))
+        put("origins", FrozenDict(dict(origins or {})))
         put("parts", tuple(parts))
         put("agents", tuple(agents))
         put("operations", tuple(operations))
-        put("part_index", _FrozenDict(check_parts(self.parts, self.source + ":")))
-        put("agent_index", _FrozenDict(check_agents(self.agents, self.source + ":")))
+        put("part_index", FrozenDict(check_parts(self.parts, self.source + ":")))
+        put("agent_index", FrozenDict(check_agents(self.agents, self.source + ":")))
         for key, value in _nodes(self).items():
             put(key, value)
         put("actions", _action_order(self.operations, actions))
@@ -109,8 +89,8 @@ class CompiledGraph:
             [tuple(self.agent_index[a] for a in op.agents) for op in self.operations],
             [op.costs for op in self.operations],
         )
-        put("layout", _read_only(layout))
-        put("key_hyperarcs", _FrozenDict(_index_keys(self)))
+        put("layout", _read_only_layout(layout))
+        put("key_hyperarcs", FrozenDict(_index_keys(self)))
         self._check_compiled()
 
     def _check_compiled(self) -> None:
@@ -197,35 +177,18 @@ class CompiledGraph:
     def may_precede(self, first: str, then: str) -> bool:
         """Some complete plan can carry out an operation of action ``first`` before one of action ``then``:
         inside a sub-assembly that ``then`` joins, or in a separate sub-assembly (either order)."""
-        reach = self._reach
-        x, y = reach.action_bits.get(first, 0), reach.action_bits.get(then, 0)
-        return any(y >> op & 1 and reach.under[op] & x for op in reach.usable) or any(
-            (a & x and b & y) or (a & y and b & x) for a, b in reach.apart)
+        return free_order.may_precede(self._reach, first, then)
 
     @functools.cached_property
     def free_order_groups(self) -> tuple[tuple[str, ...], ...]:
-        """The actions in groups whose order is free: two actions are linked when each may come before the
-        other (:meth:`may_precede`), and a group is a set of linked actions; in action order. (In the
-        corner joint, a2, a3 and a4 form one group: L, S1 and S2 go into J in any order.)"""
-        group = {a: i for i, a in enumerate(self.actions)}
-
-        def root(a: str) -> str:
-            while self.actions[group[a]] != a:
-                a = self.actions[group[a]]
-            return a
-
-        for i, x in enumerate(self.actions):
-            for y in self.actions[i + 1:]:
-                if root(x) != root(y) and self.may_precede(x, y) and self.may_precede(y, x):
-                    group[root(y)] = group[root(x)]
-        out: dict[str, list[str]] = {}
-        for a in self.actions:
-            out.setdefault(root(a), []).append(a)
-        return tuple(tuple(v) for v in out.values())
+        """The actions in groups whose order is free (:mod:`ergosim.planner.free_order`), in action order.
+        (In the corner joint, a2, a3 and a4 form one group: L, S1 and S2 go into J in any order.)"""
+        return free_order.free_order_groups(self.actions, self.may_precede)
 
     @functools.cached_property
-    def _reach(self) -> _OrderReach:
-        return _order_reach(self)
+    def _reach(self) -> free_order.OrderReach:
+        return free_order.order_reach(self.node_masks, self.node_ops, self.op_children,
+                                      [op.action for op in self.operations], self.root)
 
     @functools.cached_property
     def parents(self) -> tuple[tuple[int, ...], ...]:
@@ -238,8 +201,10 @@ class CompiledGraph:
 
     @functools.cached_property
     def op_table(self) -> OperationTable:
-        """The :class:`OperationTable`, built on first use (the team decision and the outside pass)."""
-        return _operation_table(self)
+        """The :class:`~ergosim.planner.op_table.OperationTable`, built on first use (the team decision and
+        the outside pass)."""
+        return build_operation_table(self.layout, self.op_father, self.op_children,
+                                     [op.action for op in self.operations], self.n_nodes)
 
     @functools.cached_property
     def node_edges(self) -> tuple[tuple[tuple[int, int], ...], ...]:
@@ -258,63 +223,6 @@ class CompiledGraph:
             f"{type(self).__name__}({self.name!r}, parts={len(self.parts)}, agents={len(self.agents)}, "
             f"nodes={self.n_nodes}, hyperarcs={self.n_hyperarcs})"
         )
-
-
-@dataclass(frozen=True)
-class _OrderReach:
-    """What may come before what: ``usable`` the operations of some complete plan; ``under[op]`` the bit set
-    of the operations some plan carries out inside ``op``'s children; ``apart``: per usable operation and
-    pair of its children, the bit sets of the operations inside each; ``action_bits``: action -> bit set
-    of its operations."""
-
-    usable: tuple[int, ...]
-    under: tuple[int, ...]
-    apart: tuple[tuple[int, int], ...]
-    action_bits: Mapping[str, int]
-
-
-def _order_reach(g: CompiledGraph) -> _OrderReach:
-    buildable = [m.bit_count() == 1 for m in g.node_masks]
-    for n in range(g.n_nodes):  # topological order: children first
-        buildable[n] = buildable[n] or any(all(buildable[c] for c in g.op_children[o]) for o in g.node_ops[n])
-    on_plan = [False] * g.n_nodes
-    on_plan[g.root] = buildable[g.root]
-    usable = []
-    for n in reversed(range(g.n_nodes)):
-        for o in g.node_ops[n] if on_plan[n] else ():
-            if all(buildable[c] for c in g.op_children[o]):
-                usable.append(o)
-                for c in g.op_children[o]:
-                    on_plan[c] = True
-    usable.sort()
-    inside = [0] * g.n_nodes  # the operations some build tree of the node carries out
-    is_usable = set(usable)
-    for n in range(g.n_nodes):
-        for o in g.node_ops[n]:
-            if o in is_usable:
-                inside[n] |= 1 << o
-                for c in g.op_children[o]:
-                    inside[n] |= inside[c]
-    under = [0] * len(g.operations)
-    apart = []
-    for o in usable:
-        kids = [inside[c] for c in g.op_children[o]]
-        for k in kids:
-            under[o] |= k
-        apart += [(a, b) for i, a in enumerate(kids) for b in kids[i + 1:]]
-    bits: dict[str, int] = {}
-    for o, op in enumerate(g.operations):
-        bits[op.action] = bits.get(op.action, 0) | 1 << o
-    return _OrderReach(tuple(usable), tuple(under), tuple(apart), _FrozenDict(bits))
-
-
-class _FrozenDict(dict):
-    """A dict that cannot change once built (a subclass of dict keeps the planners' lookups at C speed)."""
-
-    def _refuse(self, *args, **kwargs):
-        raise TypeError("a compiled graph is frozen: its mappings cannot change")
-
-    __setitem__ = __delitem__ = __ior__ = clear = pop = popitem = setdefault = update = _refuse
 
 
 def _rebuild(cls, name, parts, agents, operations, actions, source, origins):
@@ -380,7 +288,7 @@ def _nodes(g: CompiledGraph) -> dict[str, object]:
     for i, father in enumerate(op_father):
         node_ops[father].append(i)
     return {
-        "op_index": _FrozenDict(op_index),
+        "op_index": FrozenDict(op_index),
         "node_masks": node_masks,
         "op_father": op_father,
         "op_children": tuple(tuple(node_of[c] for c in ch) for _, ch in masks_of),
@@ -403,43 +311,15 @@ def _index_keys(g: CompiledGraph) -> dict[tuple[str, str], np.ndarray]:
     keys: dict[tuple[str, str], list[int]] = {}
     for h, (op, agent) in enumerate(zip(lay.op.tolist(), lay.agent.tolist(), strict=True)):
         keys.setdefault((g.operations[op].action, g.agents[agent].name), []).append(h)
-    return {k: _frozen(np.array(v, dtype=np.int64)) for k, v in keys.items()}
+    return {k: read_only(np.array(v, dtype=np.int64)) for k, v in keys.items()}
 
 
-def _operation_table(g: CompiledGraph) -> OperationTable:
-    lay = g.layout
-    n_ops = len(g.operations)
-    perm = np.argsort(lay.op, kind="stable")
-    start = np.searchsorted(lay.op[perm], np.arange(n_ops + 1), side="left")
-    width = max((len(c) for c in g.op_children), default=2)
-    children = np.full((n_ops, width), g.n_nodes, dtype=np.int64)
-    for i, ch in enumerate(g.op_children):
-        children[i, : len(ch)] = ch
-    father = np.asarray(g.op_father, dtype=np.int64).reshape(-1)
-    levels = []
-    for level in reversed(lay.levels):
-        ops = np.unique(lay.op[level.lo : level.hi])
-        levels.append((_frozen(ops), _frozen(father[ops]), _frozen(np.ascontiguousarray(children[ops].T))))
-    others = tuple(tuple(c for c in range(width) if c != j) for j in range(width))
-    by_action: dict[str, list[int]] = {}
-    for i, op in enumerate(g.operations):
-        by_action.setdefault(op.action, []).append(i)
-    action_ops = _FrozenDict({a: _frozen(np.array(v, dtype=np.int64)) for a, v in by_action.items()})
-    return OperationTable(_frozen(perm), _frozen(start), _frozen(children), _frozen(father), tuple(levels),
-                          others, action_ops)
-
-
-def _frozen(a: np.ndarray) -> np.ndarray:
-    a.flags.writeable = False
-    return a
-
-
-def _read_only(layout: Layout) -> Layout:
+def _read_only_layout(layout: Layout) -> Layout:
     for a in (layout.op, layout.agent, layout.father, layout.cost, layout.seg_start, layout.seg_end):
-        _frozen(a)
+        read_only(a)
     for level in layout.levels:
         for a in (level.children, level.op_of, level.starts, level.fathers):
-            _frozen(a)
+            read_only(a)
     return layout
 
 

@@ -137,11 +137,21 @@ def solve(
         del open_[state]
         close[state] = score
     if curr is None:
-        value, _ = bottom_up.node_costs(graph, config, cost)
-        reason, op_name, part = diagnose.explain(graph, config, cost, value)
-        raise InfeasiblePlanError(f"no feasible plan: {reason}", where=graph.where(op_name, part))
+        _infeasible(graph, config, cost)
+    return _path(father, start, curr)
+
+
+def _infeasible(graph: CompiledGraph, config: np.ndarray, cost: np.ndarray) -> None:
+    """OPEN ran empty: raise InfeasiblePlanError with the reason the bottom-up pass finds."""
+    value, _ = bottom_up.node_costs(graph, config, cost)
+    reason, op_name, part = diagnose.explain(graph, config, cost, value)
+    raise InfeasiblePlanError(f"no feasible plan: {reason}", where=graph.where(op_name, part))
+
+
+def _path(father: dict[int, tuple[int, int]], start: int, goal: int) -> list[int]:
+    """The hyper-arcs from ``goal`` back to ``start`` along the father pointers."""
     path = []
-    while curr != start:
-        curr, h = father[curr]
+    while goal != start:
+        goal, h = father[goal]
         path.append(h)
     return path
