@@ -22,7 +22,15 @@ from ergosim.errors import RenderError
 from ergosim.quat import to_mat
 from ergosim.scenes.cellspec import View
 
-__all__ = ["PoseRenderer", "RenderQuality", "open_renderer"]
+__all__ = ["PoseRenderer", "RenderQuality", "open_renderer", "gl_used"]
+
+_GL_CONTEXTS = [0]  # offscreen contexts this process opened
+
+
+def gl_used() -> bool:
+    """True once this process opened an offscreen OpenGL context (a child forked from it would inherit
+    the driver's state, so :mod:`ergosim.video.render_pool` spawns instead)."""
+    return _GL_CONTEXTS[0] > 0
 
 
 @dataclasses.dataclass(frozen=True)
@@ -39,6 +47,7 @@ class RenderQuality:
 
 def open_renderer(model: mujoco.MjModel, width: int, height: int) -> mujoco.Renderer:
     """MuJoCo's offscreen renderer, or a one-line :class:`RenderError` saying how to get an OpenGL context."""
+    _GL_CONTEXTS[0] += 1
     try:
         return mujoco.Renderer(model, height=height, width=width)
     except Exception as err:  # glfw without a display, no EGL driver, ...: MuJoCo raises several kinds
