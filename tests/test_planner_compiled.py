@@ -37,7 +37,7 @@ def test_a_graph_is_frozen_once_built(corner):
         corner.key_hyperarcs[("a1", "human")] = np.zeros(1)
     table = corner.op_table
     arrays = [corner.layout.cost, corner.layout.op, corner.layout.levels[0].children, table.op_children,
-              table.op_perm, table.levels[0][2], next(iter(corner.key_hyperarcs.values())),
+              table.op_perm, table.levels[0][0], next(iter(corner.key_hyperarcs.values())),
               next(iter(table.action_ops.values()))]
     for a in arrays:
         with pytest.raises(ValueError, match="read-only"):

@@ -25,7 +25,8 @@ class OperationTable:
     ``op_perm`` (n_hyperarcs,) hyper-arc indices grouped by operation, ``op_start`` (n_ops + 1,) where each
     operation's group starts; ``op_children`` (n_ops, k) child nodes padded with the dummy node
     ``n_nodes``; ``op_father`` (n_ops,); ``levels``: per father size, largest first, (operation indices,
-    their fathers, their child columns (k, m)); ``others``: for each child slot j, the other slots;
+    their fathers, their child columns (k, m), writeable for ``np.minimum.at``); ``others``: for each child
+    slot j, the other slots;
     ``action_ops``: action label -> its operations' indices."""
 
     op_perm: np.ndarray
@@ -56,8 +57,8 @@ def build_operation_table(layout: Layout, op_father: Sequence[int], op_children:
     levels = []
     for level in reversed(layout.levels):
         ops = np.unique(layout.op[level.lo : level.hi])
-        levels.append((read_only(ops), read_only(father[ops]),
-                       read_only(np.ascontiguousarray(children[ops].T))))
+        # the child columns go to np.minimum.at on every outside pass (frozen.UFUNC_INDICES)
+        levels.append((read_only(ops), read_only(father[ops]), np.ascontiguousarray(children[ops].T)))
     others = tuple(tuple(c for c in range(width) if c != j) for j in range(width))
     by_action: dict[str, list[int]] = {}
     for i, action in enumerate(op_actions):
