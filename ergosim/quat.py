@@ -13,8 +13,8 @@ from collections.abc import Sequence
 import mujoco
 import numpy as np
 
-__all__ = ["to_mat", "mul", "conj", "rotate", "angle_deg", "from_yaw_deg", "from_rpy", "wxyz_to_xyzw",
-           "xyzw_to_wxyz"]
+__all__ = ["to_mat", "from_mat", "mul", "conj", "rotate", "angle_deg", "from_yaw_deg", "from_rpy",
+           "from_axis_to", "wxyz_to_xyzw", "xyzw_to_wxyz"]
 
 _CONJ = np.array([1.0, -1.0, -1.0, -1.0])
 _WXYZ_TO_XYZW = np.array([1, 2, 3, 0])
@@ -31,6 +31,13 @@ def to_mat(quat: np.ndarray) -> np.ndarray:
     for row, qi in zip(out, flat, strict=True):
         mujoco.mju_quat2Mat(row, qi)
     return out.reshape(*q.shape[:-1], 3, 3)
+
+
+def from_mat(mat: np.ndarray) -> np.ndarray:
+    """(4,) unit quaternion wxyz of a rotation matrix (3, 3) or its 9 entries (``mju_mat2Quat``)."""
+    quat = np.empty(4)
+    mujoco.mju_mat2Quat(quat, np.asarray(mat, dtype=float).reshape(9))
+    return quat
 
 
 def mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -70,6 +77,29 @@ def from_rpy(rpy: Sequence[float], degrees: bool = False) -> np.ndarray:
     cr, sr, cp, sp, cy, sy = math.cos(r), math.sin(r), math.cos(p), math.sin(p), math.cos(y), math.sin(y)
     return np.array([cr * cp * cy + sr * sp * sy, sr * cp * cy - cr * sp * sy,
                      cr * sp * cy + sr * cp * sy, cr * cp * sy - sr * sp * cy])
+
+
+def from_axis_to(axis_from: str, axis: tuple[float, float, float]) -> np.ndarray:
+    """Unit quaternion wxyz taking local axis ``axis_from`` ("x" | "y" | "z") onto the direction ``axis``.
+
+    The principal cases keep the part's other faces parallel to the host's (exact values, no rounding
+    drift): x->x identity, x->y yaw +90 deg, x->z pitch -90 deg."""
+    src = np.eye(3)["xyz".index(axis_from)]
+    dst = np.asarray(axis, dtype=float)
+    dst = dst / np.linalg.norm(dst)
+    if np.array_equal(src, dst):
+        return np.array([1.0, 0, 0, 0])
+    if axis_from == "x" and np.array_equal(dst, [0, 1.0, 0]):
+        return np.array([np.cos(np.pi / 4), 0, 0, np.sin(np.pi / 4)])
+    if axis_from == "x" and np.array_equal(dst, [0, 0, 1.0]):
+        return np.array([np.cos(np.pi / 4), 0, -np.sin(np.pi / 4), 0])
+    c = float(np.dot(src, dst))
+    if c < -1 + 1e-12:  # opposite: half a turn about any perpendicular axis
+        perp = np.eye(3)[(("xyz".index(axis_from)) + 1) % 3]
+        return np.array([0.0, *perp])
+    v = np.cross(src, dst)
+    q = np.array([1.0 + c, *v])
+    return q / np.linalg.norm(q)
 
 
 def wxyz_to_xyzw(quat_wxyz: np.ndarray) -> np.ndarray:

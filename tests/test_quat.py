@@ -62,3 +62,26 @@ def test_mujoco_and_rerun_orders_convert_in_one_place(quats):
     np.testing.assert_array_equal(quat.xyzw_to_wxyz(quats[:, [1, 2, 3, 0]]), quats)
     with pytest.raises(ValueError, match="shape"):
         quat.xyzw_to_wxyz(np.zeros(5))
+
+
+def test_from_mat_is_mujocos_inverse_of_to_mat(quats):
+    for q in quats[:20]:
+        back = quat.from_mat(quat.to_mat(q))
+        np.testing.assert_allclose(back * np.sign(back[0] * q[0]), q, atol=1e-12)  # q and -q: one rotation
+        assert np.array_equal(quat.from_mat(quat.to_mat(q).reshape(9)), back)
+
+
+@pytest.mark.parametrize("axis_from", ["x", "y", "z"])
+def test_from_axis_to_takes_the_local_axis_onto_the_direction(axis_from):
+    src = np.eye(3)["xyz".index(axis_from)]
+    targets = [np.eye(3)[i] * s for i in range(3) for s in (1, -1)]
+    targets += list(np.random.default_rng(5).normal(size=(10, 3)))
+    for axis in targets:
+        q = quat.from_axis_to(axis_from, tuple(axis))
+        assert np.linalg.norm(q) == pytest.approx(1.0)
+        np.testing.assert_allclose(quat.to_mat(q) @ src, axis / np.linalg.norm(axis), atol=1e-12)
+    # the principal cases are exact: a slot along y or z keeps the part's faces parallel to the host's
+    np.testing.assert_array_equal(quat.from_axis_to("x", (1.0, 0, 0)), [1.0, 0, 0, 0])
+    h = np.sqrt(0.5)
+    np.testing.assert_allclose(quat.from_axis_to("x", (0, 1.0, 0)), [h, 0, 0, h], atol=0)
+    np.testing.assert_allclose(quat.from_axis_to("x", (0, 0, 1.0)), [h, 0, -h, 0], atol=0)

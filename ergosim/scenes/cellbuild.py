@@ -10,11 +10,11 @@ from __future__ import annotations
 
 import mujoco
 
-from ergosim.quat import from_rpy, from_yaw_deg
+from ergosim.quat import from_axis_to, from_rpy, from_yaw_deg
 from ergosim.robot.handle import robot_prefix
 from ergosim.scenes import build
 from ergosim.scenes.action_kinds import action_kind
-from ergosim.scenes.cellspec import Box, CellSpec, Shelf, Table, quat_axis_to
+from ergosim.scenes.cellspec import Box, CellSpec, Shelf, Table
 from ergosim.scenes.clearance import check_clearance
 from ergosim.scenes.shapes import add_part_body
 from ergosim.scenes.workcell import ActionGeometry, Workcell
@@ -102,7 +102,7 @@ def build_cell(spec: CellSpec) -> Workcell:
         part = spec.part(a.part)
         centre = [slot.at[i] + part.insert_half_length * slot.axis[i] for i in range(3)]
         bodies[slot.host].add_site(name=seat_site(slot.host, a.part), pos=centre,
-                                   quat=quat_axis_to(part.insert_axis, slot.axis).tolist(), group=4)
+                                   quat=from_axis_to(part.insert_axis, slot.axis).tolist(), group=4)
         seats.append((slot.host, a.part))
     for t in spec.targets:
         if t.kind == "place":

@@ -330,26 +330,3 @@ class CellSpec:
                 return v
         raise ConfigError(f"unknown view {name!r}; the workcell {self.name!r} has: "
                           f"{', '.join(v.name for v in self.views)}", where=f"{self.source}: [views]")
-
-
-def quat_axis_to(axis_from: str, axis: tuple[float, float, float]) -> np.ndarray:
-    """Unit quaternion wxyz taking local axis ``axis_from`` ("x" | "y" | "z") onto the direction ``axis``.
-
-    The principal cases keep the part's other faces parallel to the host's (exact values, no rounding
-    drift): x->x identity, x->y yaw +90 deg, x->z pitch -90 deg."""
-    src = np.eye(3)["xyz".index(axis_from)]
-    dst = np.asarray(axis, dtype=float)
-    dst = dst / np.linalg.norm(dst)
-    if np.array_equal(src, dst):
-        return np.array([1.0, 0, 0, 0])
-    if axis_from == "x" and np.array_equal(dst, [0, 1.0, 0]):
-        return np.array([np.cos(np.pi / 4), 0, 0, np.sin(np.pi / 4)])
-    if axis_from == "x" and np.array_equal(dst, [0, 0, 1.0]):
-        return np.array([np.cos(np.pi / 4), 0, -np.sin(np.pi / 4), 0])
-    c = float(np.dot(src, dst))
-    if c < -1 + 1e-12:  # opposite: half a turn about any perpendicular axis
-        perp = np.eye(3)[(("xyz".index(axis_from)) + 1) % 3]
-        return np.array([0.0, *perp])
-    v = np.cross(src, dst)
-    q = np.array([1.0 + c, *v])
-    return q / np.linalg.norm(q)

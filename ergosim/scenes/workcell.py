@@ -15,7 +15,7 @@ import numpy as np
 
 from ergosim.errors import ConfigError
 from ergosim.human.mocap import MocapHuman
-from ergosim.quat import angle_deg, conj
+from ergosim.quat import angle_deg, conj, from_mat
 from ergosim.robot.handle import PandaHandle, robot_prefix
 from ergosim.scenes.action_kinds import ActionKind, action_kind
 from ergosim.scenes.build import receive_name, seat_name, weld_name
@@ -118,9 +118,7 @@ class Workcell:
     # -- poses ----------------------------------------------------------------------------------------------
     def site_pose(self, name: str) -> tuple[np.ndarray, np.ndarray]:
         i = self.model.site(name).id
-        quat = np.empty(4)
-        mujoco.mju_mat2Quat(quat, self.data.site_xmat[i])
-        return self.data.site_xpos[i].copy(), quat
+        return self.data.site_xpos[i].copy(), from_mat(self.data.site_xmat[i])
 
     def body_pose(self, name: str) -> tuple[np.ndarray, np.ndarray]:
         i = self.model.body(name).id
@@ -271,8 +269,7 @@ class Workcell:
         pos, q = self.body_pose(part)
         i = self._seat_site[part]
         spos = self.data.site_xpos[i].copy()
-        squat = np.empty(4)
-        mujoco.mju_mat2Quat(squat, self.data.site_xmat[i])
+        squat = from_mat(self.data.site_xmat[i])
         dq = np.empty(4)
         mujoco.mju_mulQuat(dq, conj(squat), q)
         return float(np.linalg.norm(pos - spos)), angle_deg(dq)
