@@ -165,3 +165,28 @@ def test_the_planners_read_the_compiled_graph_through_its_public_attributes():
     files = planner + sorted(ROOT.glob("ergosim/**/team_board.py"))
     assert len(files) > 20
     assert [r for f in files for r in _private_reads(f)] == []
+
+
+def _planner_imports(path: Path) -> set[str]:
+    """The ``ergosim.planner`` modules ``path`` imports (the package's ``__init__`` aside)."""
+    names = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.ImportFrom) and node.module == "ergosim.planner":
+            names |= {a.name for a in node.names}
+        elif isinstance(node, ast.ImportFrom) and (node.module or "").startswith("ergosim.planner."):
+            names.add(node.module.split(".")[2])
+        elif isinstance(node, ast.Import):
+            names |= {a.name.split(".")[2] for a in node.names if a.name.startswith("ergosim.planner.")}
+    return names
+
+
+def test_the_planner_has_no_import_circle():
+    """Every module of the planner can be ordered so that each imports only modules before it."""
+    modules = {p.stem: p for p in (ROOT / "ergosim" / "planner").glob("*.py") if p.stem != "__init__"}
+    imports = {m: _planner_imports(p) & modules.keys() - {m} for m, p in modules.items()}
+    assert imports["graph"] >= {"bottom_up", "paper_search"}  # the check sees the imports
+    ordered: list[str] = []
+    while len(ordered) < len(modules):
+        ready = sorted(m for m in modules if m not in ordered and imports[m] <= set(ordered))
+        assert ready, f"import circle among {sorted(set(modules) - set(ordered))}"
+        ordered += ready

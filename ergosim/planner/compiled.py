@@ -315,8 +315,8 @@ def _index_keys(g: CompiledGraph) -> dict[tuple[str, str], np.ndarray]:
 
 
 def _read_only_layout(layout: Layout) -> Layout:
-    """``layout`` with its arrays read-only, but for the segment starts that every replan hands to
-    ``np.minimum.reduceat`` (:data:`~ergosim.planner.frozen.UFUNC_INDICES`)."""
+    """``layout`` with its arrays read-only, but for each level's ``starts`` that every replan hands to
+    ``np.minimum.reduceat`` (:mod:`ergosim.planner.frozen` says why)."""
     for a in (layout.op, layout.agent, layout.father, layout.cost, layout.seg_start, layout.seg_end):
         read_only(a)
     for level in layout.levels:

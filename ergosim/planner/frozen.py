@@ -1,15 +1,16 @@
-"""The read-only containers of a compiled graph: arrays nobody can write and a dict nobody can change."""
+"""The read-only containers of a compiled graph: arrays nobody can write and a dict nobody can change.
+
+One exception: the index arrays handed to ``ufunc.reduceat`` and ``ufunc.at`` on every replan (the segment
+starts of the bottom-up pass, the child columns of the outside pass) stay writeable, because numpy copies a
+read-only index array on each such call (1 µs a call, 2 % of a replan on ``scarce:20``). Nothing writes to
+them.
+"""
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["FrozenDict", "read_only", "UFUNC_INDICES"]
-
-UFUNC_INDICES = "writeable"
-"""The index arrays handed to ``ufunc.reduceat`` and ``ufunc.at`` on every replan stay writeable: numpy
-copies a read-only index array on each such call (1 µs a call, 2 % of a replan on ``scarce:20``). Nothing
-writes to them."""
+__all__ = ["FrozenDict", "read_only"]
 
 
 def read_only(a: np.ndarray) -> np.ndarray:

@@ -57,7 +57,7 @@ def build_operation_table(layout: Layout, op_father: Sequence[int], op_children:
     levels = []
     for level in reversed(layout.levels):
         ops = np.unique(layout.op[level.lo : level.hi])
-        # the child columns go to np.minimum.at on every outside pass (frozen.UFUNC_INDICES)
+        # the child columns go to np.minimum.at on every outside pass (writeable: planner/frozen.py says why)
         levels.append((read_only(ops), read_only(father[ops]), np.ascontiguousarray(children[ops].T)))
     others = tuple(tuple(c for c in range(width) if c != j) for j in range(width))
     by_action: dict[str, list[int]] = {}
