@@ -14,6 +14,7 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
+from ergosim import quat
 from ergosim.errors import ConfigError
 from ergosim.planner import AndOrGraph
 from ergosim.robot.capability import refusal
@@ -117,7 +118,7 @@ def _plan_points(task: AndOrGraph, cell) -> list[tuple[str, np.ndarray, np.ndarr
             holder = slots[cell.config.action(step.action).target].host
             p0, q0 = start_pose[holder]
             p1, q1 = pose[holder]
-            offset = _mat(q1) @ _mat(q0).T @ (cell.site_pose(geom.target)[0] - p0)
+            offset = quat.to_mat(q1) @ quat.to_mat(q0).T @ (cell.site_pose(geom.target)[0] - p0)
             end = p1 + offset
             host[geom.part] = holder
         else:
@@ -188,13 +189,13 @@ def _handover_clearance(cell, handle, geom) -> float | None:
     m, d = cell.model, cell.data
     kin = ArmKinematics(handle.robot)
     base_p, base_q = cell.robot_base_pose(handle.name)
-    base_r = _mat(base_q)
+    base_r = quat.to_mat(base_q)
     part_p, part_q = cell.body_pose(geom.part)
     site = m.site(cell.grasp_site(geom.part)).id
-    rel_p = _mat(part_q).T @ (d.site_xpos[site] - part_p)
-    rel_r = _mat(part_q).T @ d.site_xmat[site].reshape(3, 3)
+    rel_p = quat.to_mat(part_q).T @ (d.site_xpos[site] - part_p)
+    rel_r = quat.to_mat(part_q).T @ d.site_xmat[site].reshape(3, 3)
     to_p, to_q = cell.site_pose(geom.handover)
-    tcp_p, tcp_r = to_p + _mat(to_q) @ rel_p, _mat(to_q) @ rel_r
+    tcp_p, tcp_r = to_p + quat.to_mat(to_q) @ rel_p, quat.to_mat(to_q) @ rel_r
     for flip in (np.eye(3), np.diag([-1.0, -1.0, 1.0])):  # the grasp turned 180 deg about the TCP z
         res = solve_ik(kin, base_r.T @ (tcp_p - base_p), base_r.T @ tcp_r @ flip, kin.ready, restarts=4,
                        rng=np.random.default_rng(0))
@@ -208,12 +209,6 @@ def _handover_clearance(cell, handle, geom) -> float | None:
             mujoco.mj_kinematics(m, d)
             return float(clear)
     return None
-
-
-def _mat(quat) -> np.ndarray:
-    r = np.empty(9)
-    mujoco.mju_quat2Mat(r, np.asarray(quat, dtype=float))
-    return r.reshape(3, 3)
 
 
 def _has_worker(cell) -> bool:
@@ -311,11 +306,7 @@ def check_reachability(scenario, task: AndOrGraph, cell) -> list[str]:
 def _robot_reaches(cell, robot: str, kin, point: np.ndarray) -> bool:
     """A top-down TCP pose of ``robot`` 5 cm above ``point`` (world) within 1 cm of a solution."""
     base_p, base_q = cell.robot_base_pose(robot)
-    import mujoco  # noqa: PLC0415
-
-    r = np.empty(9)
-    mujoco.mju_quat2Mat(r, base_q)
-    r = r.reshape(3, 3)
+    r = quat.to_mat(base_q)
     local = r.T @ (np.asarray(point) + np.array([0, 0, 0.05]) - base_p)
     down = r.T @ np.diag([1.0, -1.0, -1.0])
     res = solve_ik(kin, local, down, kin.robot.home, restarts=4, rng=np.random.default_rng(0))

@@ -1,6 +1,7 @@
 """Robots: the :class:`RobotModel` contract and its registry (the bundled robots come from
 example-robot-data, each in its own module), MJCF built from the URDF, pinocchio kinematics, IK,
-trajectories, skills."""
+trajectories, and skills planned as timed programs (skill_motion, skill_plan, skill_program), stepped by an
+executor (skill_exec)."""
 
 from ergosim.robot import panda as _first  # noqa: F401  (register the bundled robots)
 from ergosim.robot import ur5 as _second  # noqa: F401
@@ -19,6 +20,9 @@ from ergosim.robot.robot_model import (
     register_robot,
     robot_names,
 )
+from ergosim.robot.skill_motion import Motion, MotionPlanner, Waypoint
+from ergosim.robot.skill_plan import CarryGoal, CarryPlan, CarryPlanner, RobotView
+from ergosim.robot.skill_program import SkillProgram
 from ergosim.robot.skills import Handover, PickPlace, Skill, SkillParams, handover, pick_place
 from ergosim.robot.ssm import SSMParams, allowed_speed, protective_distance, speed_scale
 from ergosim.robot.status import SKILL_PHASES, SkillResult, SkillStatus
@@ -70,6 +74,14 @@ __all__ = [
     "robot_spec",
     "compile_spec",
     "load_mjcf",
+    "Motion",
+    "MotionPlanner",
+    "Waypoint",
+    "CarryGoal",
+    "CarryPlan",
+    "CarryPlanner",
+    "RobotView",
+    "SkillProgram",
     "Handover",
     "PickPlace",
     "Skill",

@@ -7,7 +7,6 @@ slot. :class:`~ergosim.scenes.workcell.Workcell` switches them on with the relat
 from __future__ import annotations
 
 import contextlib
-import math
 import warnings
 from collections.abc import Iterator
 
@@ -17,13 +16,14 @@ import numpy as np
 from ergosim.human.mjcf import HOME_POSTURE
 from ergosim.human.mocap import add_mocap_segments
 from ergosim.human.model import HAND_SITES, ROOT_BODY, HumanModel, human_spec
+from ergosim.quat import from_yaw_deg
 from ergosim.robot.handle import RobotHandle
 from ergosim.robot.model import compile_spec, robot_spec
 from ergosim.robot.robot_model import RobotModel
 from ergosim.scenes.cellspec import Surface, Worker
 from ergosim.scenes.park import ParkChoice, ParkRule, choose_park, robot_geoms
 
-__all__ = ["weld_name", "seat_name", "receive_name", "yaw_quat", "new_spec", "add_table", "add_box",
+__all__ = ["weld_name", "seat_name", "receive_name", "new_spec", "add_table", "add_box",
            "attach_robot", "attach_human", "add_welds", "human_hand_bodies", "finish", "quiet_attach"]
 
 WOOD = (0.72, 0.6, 0.45, 1.0)
@@ -41,11 +41,6 @@ def seat_name(part: str) -> str:
 def receive_name(part: str) -> str:
     """The weld by which a receiver outside the cell holds ``part`` (the handover kind)."""
     return f"receive_{part}"
-
-
-def yaw_quat(yaw_deg: float) -> list[float]:
-    h = math.radians(yaw_deg) / 2
-    return [math.cos(h), 0.0, 0.0, math.sin(h)]
 
 
 @contextlib.contextmanager
@@ -123,7 +118,7 @@ def attach_robot(spec: mujoco.MjSpec, robot: RobotModel, base, yaw: float, times
         half = (z - support_height) / 2
         add_box(spec, f"{prefix}robot_pedestal", (x + mount.offset_x, y, support_height + half),
                 (*mount.pedestal, half))
-    frame = spec.worldbody.add_frame(name=f"{prefix}robot_base", pos=list(base), quat=yaw_quat(yaw))
+    frame = spec.worldbody.add_frame(name=f"{prefix}robot_base", pos=list(base), quat=from_yaw_deg(yaw))
     arm = robot_spec(robot)
     for key, blob in arm.assets.items():
         spec.assets[key] = blob
@@ -144,7 +139,7 @@ def attach_human(spec: mujoco.MjSpec, worker: Worker) -> mujoco.MjModel:
     kin_spec = mujoco.MjSpec()
     kin_spec.modelname = "human_kinematics"
     kin_spec.compiler.degree = False
-    frame = kin_spec.worldbody.add_frame(name="worker", pos=[*worker.xy, 0.0], quat=yaw_quat(worker.yaw))
+    frame = kin_spec.worldbody.add_frame(name="worker", pos=[*worker.xy, 0.0], quat=from_yaw_deg(worker.yaw))
     human = human_spec(worker.stature, dict(worker.human_scale), keyframe=None)
     with quiet_attach():
         frame.attach_body(human.body(ROOT_BODY), "", "")
