@@ -163,10 +163,10 @@ register_mode(Mode("hrc", "KWear-driven allocation (paper eq. 9-11)", risk_index
                    paired_with="h-only"))
 register_mode(Mode("rula", "static RULA baseline (paper §7.1, Table 1)", risk_index="rula-static",
                    table_key="rula"))
+register_mode(Mode("h-only", "the worker does everything and waits for the takt (paper §7.2)",
+                   prune=_human_only, waits_for_takt=True, uses_robot=False))
+register_mode(Mode("r-only", "every action a robot may do goes to a robot", prune=_robot_first))
 register_mode(Mode("hrc-reba", "KWear on REBA part scores, legs included (eq. 9-11 on REBA)",
                    risk_index="kwear-reba", table_key="kwear_reba", paired_with="h-only"))
 register_mode(Mode("reba", "static REBA baseline (G(a_k) >= reba_threshold goes to the robot)",
                    risk_index="reba-static", table_key="reba"))
-register_mode(Mode("h-only", "the worker does everything and waits for the takt (paper §7.2)",
-                   prune=_human_only, waits_for_takt=True, uses_robot=False))
-register_mode(Mode("r-only", "every action a robot may do goes to a robot", prune=_robot_first))
