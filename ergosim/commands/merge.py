@@ -34,7 +34,8 @@ def run(args) -> int:
 
     result = merge_runs([Path(d) for d in args.dirs], Path(args.out))
     if not args.quiet:
-        cfg = ScenarioConfig(**{k: tuple(v) if isinstance(v, list) else v for k, v in result.config.items()})
+        cfg = ScenarioConfig(**{k: tuple(v) if isinstance(v, list) else v for k, v in result.config.items()
+                                if k != "overrides"})
         print(summary_text(result.summary, cfg))
     first, last = result.subjects.start, result.subjects.stop - 1
     print(f"merged {len(args.dirs)} run folder(s), subjects {first}..{last}: {result.out.resolve()}")

@@ -87,6 +87,9 @@ def _manifest(sweep, status: str, reason: str, units, docs, skipped: int, ran: i
         "units_skipped_at_start": skipped, "units_run": ran,
         "cells": len(sweep.cells), "cells_complete": len(complete),
         "axes": [{"key": a.key, "block": a.block, "values": list(a.values)} for a in sweep.axes],
+        "factors": [{"name": f.name, "block": f.block, "keys": list(f.keys), "levels": list(f.levels)}
+                    for f in sweep.factors],
+        "config": sweep.base.protocol.record(),
         "fixed": dict(sweep.fixed), "subjects": list(sweep.subjects), "seeds": list(sweep.seeds),
         "modes": list(sweep.modes), "mode_slots": dict(sweep.slots), "metrics": list(sweep.metrics),
         "actions": list(sweep.actions),

@@ -15,6 +15,7 @@ import dataclasses
 import multiprocessing
 import os
 import time
+from collections.abc import Mapping
 from pathlib import Path
 
 from ergosim.atomic import write_json
@@ -67,14 +68,20 @@ def _job(args) -> SubjectResult:
     return run_subject(scenario, index, seed, modes, record_mode=record_mode)
 
 
+def run_config(cfg: ScenarioConfig, overrides: Mapping[str, str] | None) -> dict:
+    """The run's ``config`` as run.json, summary.json and the subject records keep it: the protocol and,
+    when any were given, every override as given (``overrides``: ``--set`` key -> value)."""
+    return {**cfg.record(), **({"overrides": dict(overrides)} if overrides else {})}
+
+
 def _write(out: Path, name: str, seed: int, cfg: ScenarioConfig, results: list[SubjectResult],
            complete: bool, final: bool, status: str = "running", plot_subjects=None,
-           subjects: range | None = None) -> dict:
+           subjects: range | None = None, overrides: Mapping[str, str] | None = None) -> dict:
     results = sorted(results, key=lambda r: r.subject)
     # computed from the subject records (subject_records.json), as `ergosim merge` does for shards
     records = [SubjectRecord.of(r) for r in results]
     span = (subjects.start, subjects.stop) if subjects is not None else (0, cfg.subjects)
-    config = cfg.record()
+    config = run_config(cfg, overrides)
     summary = summary_of(name, seed, config, records, subject_range=span, complete=complete, status=status)
     write_record_files(out, name, seed, config, records, subject_range=span)
     modes = {m: [r.runs[m] for r in results if m in r.runs] for m in cfg.modes}
@@ -131,7 +138,7 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
     recording = recorder is not None and recorder.enabled
     record_mode = (record_mode or cfg.modes[0]) if recording else None
     folder = RunFolder(out, scenario=name, seed=seed)
-    folder.claim(cfg.record())
+    folder.claim(run_config(cfg, scenario.overrides))
     subjects = subjects if subjects is not None else range(cfg.subjects)
     jobs = max(1, min(jobs or os.cpu_count() or 1, len(subjects)))
     kept = {(record_subject, record_mode)} if record_mode is not None else set()
@@ -149,7 +156,8 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
             if jobs == 1:
                 for a in args:
                     results.append(_job(a))
-                    _write(out, name, seed, cfg, results, complete=False, final=False, subjects=subjects)
+                    _write(out, name, seed, cfg, results, complete=False, final=False, subjects=subjects,
+                           overrides=scenario.overrides)
                     bar.advance()
             else:
                 ctx = multiprocessing.get_context("spawn")
@@ -160,7 +168,7 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
                     for fut in cf.as_completed(futures):
                         results.append(fut.result())
                         _write(out, name, seed, cfg, results, complete=False, final=False,
-                               subjects=subjects)
+                               subjects=subjects, overrides=scenario.overrides)
                         bar.advance()
                 except BaseException:
                     stop_pool(pool)
@@ -175,14 +183,15 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
         with interrupt_on_signals():  # a second Ctrl-C while writing still leaves whole files
             if results:
                 summary = _write(out, name, seed, cfg, results, complete=status == "complete", final=True,
-                                 status=status, plot_subjects=plot_subjects, subjects=subjects)
+                                 status=status, plot_subjects=plot_subjects, subjects=subjects,
+                                 overrides=scenario.overrides)
                 if summary["status"] == "abandoned":
                     status = "abandoned"
                     reason = f"{summary['repetitions_abandoned']} repetition(s) abandoned"
                 folder.finish(status, reason)
             elif status == "interrupted":
                 summary = _write(out, name, seed, cfg, results, complete=False, final=True, status=status,
-                                 subjects=subjects)
+                                 subjects=subjects, overrides=scenario.overrides)
                 folder.finish(status, reason)
             else:
                 summary = {}

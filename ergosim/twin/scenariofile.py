@@ -80,7 +80,8 @@ def scenario_info(name: str) -> dict[str, Any]:
 @dataclasses.dataclass(frozen=True)
 class Scenario:
     """A resolved scenario. ``cell_overrides``: workcell overrides (dotted path or alias -> value) applied
-    on top of ``cell_doc`` for every subject."""
+    on top of ``cell_doc`` for every subject. ``overrides``: every ``--set`` applied, as given (``run.json``
+    and the subject records keep them, and ``ergosim merge`` refuses shards whose overrides differ)."""
 
     name: str
     source: str
@@ -90,6 +91,7 @@ class Scenario:
     cell_doc: Mapping[str, Any]
     cell_source: str
     cell_overrides: Mapping[str, Any] = dataclasses.field(default_factory=dict)
+    overrides: Mapping[str, str] = dataclasses.field(default_factory=dict)
 
     def task(self) -> AndOrGraph:
         return task_from_dict(dict(self.task_doc), source=self.task_source)
@@ -127,7 +129,8 @@ class Scenario:
         own = groups["protocol"]
         protocol = apply_overrides(new.protocol, own, where=where) if own else new.protocol
         protocol.validate(where=where)
-        new = dataclasses.replace(new, protocol=protocol,
+        given = {**dict(new.overrides), **{k: _said(v) for k, v in overrides.items()}}
+        new = dataclasses.replace(new, protocol=protocol, overrides=given,
                                   cell_overrides={**dict(new.cell_overrides), **groups["cell"]})
         if new is not self and (groups["cell"] or groups["task"] or groups["refs"]):
             from ergosim.twin.scenario_check import check_scenario  # noqa: PLC0415
