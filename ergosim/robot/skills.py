@@ -225,15 +225,23 @@ class Skill(ABC):
             if way.mode == "joint":
                 res = solve_ik(self.kin, goal.pos, goal.rot, self.kin.home, seeds=[q, *self._wrist_seeds(q)])
                 if not res.ok:
-                    raise PathError(f"no IK solution at {np.round(goal.pos, 3).tolist()} (base frame), "
+                    raise PathError(f"no IK solution at {np.round(way.pose.pos, 3).tolist()} (world; "
+                                    f"{np.round(goal.pos, 3).tolist()} in the base frame), "
                                     f"{res.pos_error * 1000:.0f} mm and {res.rot_error_deg:.0f} deg short",
                                     res.pos_error)
                 traj = self._joint_move(q, res.q, start.pos[2], goal.pos[2], way.kind)
                 if traj is not None:
                     spans.append((label, len(traj)))
             if traj is None:
-                traj, slow = line_trajectory(self.kin, q, start, goal, lim, self.dt, way.kind,
-                                             way.slow_first, way.slow_last)
+                try:
+                    traj, slow = line_trajectory(self.kin, q, start, goal, lim, self.dt, way.kind,
+                                                 way.slow_first, way.slow_last)
+                except PathError as err:  # say where in the world, too
+                    if err.point is None:
+                        raise
+                    world = self.base.to_world(Pose(np.asarray(err.point), np.eye(3))).pos
+                    raise PathError(f"{err}; in the world frame {np.round(world, 3).tolist()}",
+                                    err.pos_error, err.point) from None
                 spans += _runs(np.where(slow, "contact", label))
             rows.append(traj)
             q, start = traj[-1], goal
@@ -439,14 +447,17 @@ class _Carry(Skill):
             way, place = self._carry_waypoints(g, rel_p, rel_r, target, approach_dir, stand, contact)
             pre_grasp = Pose(g.pos + up * p.approach, g.rot)
             reach_z = max(tcp0.pos[2], pre_grasp.pos[2])
+            stage = "reaching for the grasp"
             try:
                 reach = self._plan(q0, [_Waypoint(Pose(np.r_[tcp0.pos[:2], reach_z], tcp0.rot)),
                                         _Waypoint(pre_grasp, "joint"),
                                         _Waypoint(g, slow_last=self.zone)])
+                stage = "on the carry (lift, transit at the carry height, approach)"
                 carry = self._plan(reach.end, way)
+                stage = "on the way out"
                 leave = self._leave(carry.end, place, approach_dir, contact)
             except PathError as err:
-                error = err
+                error = PathError(f"{stage}: {err}", err.pos_error)
                 continue
             steps = len(reach.q) + len(carry.q) + len(leave.q)
             if best is None or steps < best[0]:
@@ -456,6 +467,22 @@ class _Carry(Skill):
         _, reach, carry, place, leave, g = best
         self._plan_args = (g, target, approach_dir, stand, contact)
         return reach, carry, place, leave
+
+    def plan_error(self) -> str | None:
+        """Why this skill cannot be planned from the scene as it is now (where no IK solution exists, in the
+        world frame: reaching, on the carry or on the way out), or None; nothing moves. The check before
+        any physics (:func:`ergosim.twin.scenario_check.check_reachability`) asks this."""
+        self.zone = self.contact_zone()
+        try:
+            self._plan_carry(*self._arrival_plan())
+        except PathError as err:
+            return str(err)
+        return None
+
+    def _arrival_plan(self) -> tuple[Pose, np.ndarray, float, float]:
+        """(target, approach direction, stand-off, contact length) of :meth:`_plan_carry`, after
+        :meth:`contact_zone` set ``zone``."""
+        raise NotImplementedError
 
     def _replan_carry(self, carry: _Motion) -> _Motion:
         """Re-plan the carry from the actual grasp (the fingers may have shifted the part); keeps the
@@ -540,16 +567,19 @@ class PickPlace(_Carry):
         self.hold = float(hold)
         self.receive = receive
 
+    def _arrival_plan(self) -> tuple[Pose, np.ndarray, float, float]:
+        # an insertion runs its whole stroke at the contact speed; a place only its last ``contact``
+        stand = self.params.insert_approach if self.seat else self.params.approach
+        return self.target, self.approach_dir, stand, stand if self.seat else self.zone
+
     def planned_time(self) -> float:
         """How long the skill would take from the scene as it is now [s]: its planned joint trajectories,
         the gripper and the pauses (the expected robot duration of the time cost); NaN if unreachable. The
         scene is not changed."""
         p = self.params
-        stand = p.insert_approach if self.seat else p.approach
         self.zone = self.contact_zone()
-        contact = stand if self.seat else self.zone
         try:
-            reach, carry, _, leave = self._plan_carry(self.target, self.approach_dir, stand, contact)
+            reach, carry, _, leave = self._plan_carry(*self._arrival_plan())
         except PathError:
             return float("nan")
         steps = len(reach.q) + len(carry.q) + len(leave.q)
@@ -557,12 +587,9 @@ class PickPlace(_Carry):
 
     def _program(self) -> Program:
         p = self.params
-        # an insertion runs its whole stroke at the contact speed; a place only its last ``contact``
-        stand = p.insert_approach if self.seat else p.approach
         self.zone = self.contact_zone()
-        contact = stand if self.seat else self.zone
         try:
-            reach, carry, place, leave = self._plan_carry(self.target, self.approach_dir, stand, contact)
+            reach, carry, place, leave = self._plan_carry(*self._arrival_plan())
         except PathError as err:
             yield
             return self._finish(SkillStatus.UNREACHABLE, f"cannot take {self.part} to "
@@ -620,14 +647,17 @@ class Handover(_Carry):
         self.taken = taken or _worker_holds(part)
         self.hand_error = float("nan")
 
+    def _arrival_plan(self) -> tuple[Pose, np.ndarray, float, float]:
+        # the part comes down into the handover pose and the hand leaves upwards, both next to the worker
+        return self.target, np.array([0.0, 0.0, 1.0]), self.zone, self.zone
+
     def planned_time(self) -> float:
         """How long the robot's side of the handover would take from the scene as it is now [s]: reach,
         grasp, carry to the handover pose, let go and return (not the wait for the worker); NaN if
         unreachable. The scene is not changed."""
-        up = np.array([0.0, 0.0, 1.0])
         try:
             self.zone = self.contact_zone()
-            reach, carry, _, leave = self._plan_carry(self.target, up, self.zone, self.zone)
+            reach, carry, _, leave = self._plan_carry(*self._arrival_plan())
         except PathError:
             return float("nan")
         steps = len(reach.q) + len(carry.q) + len(leave.q)
@@ -635,11 +665,9 @@ class Handover(_Carry):
 
     def _program(self) -> Program:
         p = self.params
-        up = np.array([0.0, 0.0, 1.0])
-        # the part comes down into the handover pose and the hand leaves upwards, both next to the worker
         try:
             self.zone = self.contact_zone()
-            reach, carry, place, leave = self._plan_carry(self.target, up, self.zone, self.zone)
+            reach, carry, place, leave = self._plan_carry(*self._arrival_plan())
         except PathError as err:
             yield
             return self._finish(SkillStatus.UNREACHABLE, f"cannot hand {self.part} over at "

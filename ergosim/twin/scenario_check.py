@@ -3,8 +3,10 @@
 :func:`check_scenario` needs no kinematics: every action of the task has a physical action in the cell,
 every physical action moves a part of the task, every agent has a body (the worker, or a robot of that
 name), and no robot is allowed an action whose part its gripper cannot take. :func:`check_reachability`
-solves inverse kinematics once per (agent, action): a target that no allowed agent reaches, or a robot
-that reaches none of its actions, refuses the run before it starts, naming the agent and the part.
+follows the task's plan with every part where the earlier actions leave it, and plans each robot
+action's whole skill (reach, carry, insertion, way out) there: an action that no allowed agent can do, or
+a robot that can do none of its actions, refuses the run before it starts, naming the agent, the part
+and the point.
 """
 
 from __future__ import annotations
@@ -73,37 +75,114 @@ def precheck(scenario) -> None:
     check_reachability(scenario, scenario.task(), build_cell(scenario.cell()))
 
 
-def _start_positions(task: AndOrGraph, cell) -> list[tuple[str, np.ndarray]]:
-    """(action, where its part lies when the action starts) [m, world], in an order the task allows (its
-    optimal plan with the file's costs): a part is where the last earlier action put it, a seated part
-    where its host is."""
-    slots = cell.config.slots()
-    at = {p: cell.body_pose(p)[0] for p in cell.parts}
-    host: dict[str, str] = {}
+Pose = tuple[np.ndarray, np.ndarray]
+"""A world pose: position (3,) [m] and rotation matrix (3, 3)."""
 
-    def where(part: str) -> np.ndarray:
-        while part in host:
-            part = host[part]
-        return at[part]
+
+def _rot(quat: np.ndarray) -> np.ndarray:
+    import mujoco  # noqa: PLC0415
+
+    r = np.empty(9)
+    mujoco.mju_quat2Mat(r, np.asarray(quat, dtype=float))
+    return r.reshape(3, 3)
+
+
+class _Start:
+    """The built cell's poses before anything moves: every part's and every action target's (world)."""
+
+    def __init__(self, cell) -> None:
+        self.slots = cell.config.slots()
+        self.parts = {p: (cell.body_pose(p)[0], _rot(cell.body_pose(p)[1])) for p in cell.parts}
+        self.sites = {g.target: (cell.site_pose(g.target)[0], _rot(cell.site_pose(g.target)[1]))
+                      for g in cell.actions.values()}
+        self.targets = {a.label: a.target for a in cell.config.actions}
+
+    def target(self, geom, state: dict[str, Pose]) -> Pose:
+        """Where ``geom``'s part ends with the parts at ``state``: a slot moves with its host."""
+        sp, sr = self.sites[geom.target]
+        slot = self.slots.get(self.targets[geom.action])
+        if slot is None:
+            return sp, sr
+        (h0, r0), (h1, r1) = self.parts[slot.host], state[slot.host]
+        return h1 + r1 @ r0.T @ (sp - h0), r1 @ r0.T @ sr
+
+
+def _action_states(task: AndOrGraph, cell, start: _Start
+                   ) -> list[tuple[str, dict[str, Pose], tuple[str, ...]]]:
+    """(action, every part's world pose when the action starts, the parts seated then), in an order the
+    task allows (its optimal plan with the file's costs). A placed, removed or handed-over part lies at its
+    target with the target's pose; a seated part sits in its slot and moves with its host (the slot's site
+    carries the seated pose), so a slot's target is read where earlier actions moved its host, not where
+    the host starts."""
+    own = dict(start.parts)  # each part's pose where it is free
+    seated: dict[str, tuple[str, Pose]] = {}  # part -> (host, its pose in the host's frame)
+
+    def world(part: str) -> Pose:
+        if part not in seated:
+            return own[part]
+        host, (p, r) = seated[part]
+        hp, hr = world(host)
+        return hp + hr @ p, hr @ r
 
     out = []
     for step in task.plan().steps:
         geom = cell.actions[step.action]
-        out.append((step.action, where(geom.part)))
+        out.append((step.action, {p: world(p) for p in cell.parts}, tuple(seated)))
         if geom.seats:
-            host[geom.part] = slots[cell.config.action(step.action).target].host
+            host = start.slots[start.targets[step.action]].host
+            (hp, hr), (sp, sr) = start.parts[host], start.sites[geom.target]
+            seated[geom.part] = (host, (hr.T @ (sp - hp), hr.T @ sr))
         else:
-            at[geom.part] = cell.site_pose(geom.target)[0]
+            seated.pop(geom.part, None)
+            own[geom.part] = start.sites[geom.target]
     return out
 
 
+def _lay_parts(cell, state: dict[str, Pose], seated: tuple[str, ...]) -> None:
+    """Put every part at its pose in ``state`` and weld the ``seated`` ones into their slots (kinematics
+    only: nothing is stepped), so a robot grasps an assembly the way it would then."""
+    import mujoco  # noqa: PLC0415
+
+    model, data = cell.model, cell.data
+    for part, (pos, rot) in state.items():
+        adr = model.jnt_qposadr[model.body_jntadr[model.body(part).id]]
+        quat = np.empty(4)
+        mujoco.mju_mat2Quat(quat, rot.reshape(-1))
+        data.qpos[adr:adr + 3], data.qpos[adr + 3:adr + 7] = pos, quat
+    mujoco.mj_forward(model, data)
+    data.eq_active[:] = 0
+    for part in seated:
+        cell.seat(part)
+
+
+def _robot_turn(start: _Start, geom, state: dict[str, Pose], tolerance_deg: float) -> str | None:
+    """Why a robot cannot seat ``geom``'s part as the slot needs, or None. The robot takes a part from
+    above and can turn it only about the vertical (its hand stays pointing down): a seat that needs the
+    part tilted (a part lying down that goes in upright, or standing on end that goes in sideways) is
+    out of its reach however the arm moves. A robot that hands the part over leaves the seating to the
+    worker."""
+    if not geom.seats or geom.handover:  # at a handover the worker seats the part
+        return None
+    rot_now = state[geom.part][1]
+    rot_seat = start.target(geom, state)[1]
+    tilt = float(np.degrees(np.arccos(np.clip((rot_seat @ rot_now.T)[2, 2], -1.0, 1.0))))
+    if tilt <= tolerance_deg:
+        return None
+    return (f"{geom.part} must turn {tilt:.0f} deg about a horizontal axis to go into "
+            f"{start.targets[geom.action]}, and the robot takes a part from above and turns it only about "
+            "the vertical: give the operation agents = [\"human\"], or lay the part as it goes in")
+
+
 def check_reachability(scenario, task: AndOrGraph, cell) -> None:
-    """IK pre-check in the built workcell ``cell``: each robot-allowed action's grasp and target poses for
-    the robot, each worker-allowed action's part and target for a nominal worker of the cell's stature,
-    with every part where the earlier actions leave it. An action no allowed agent reaches, or a robot
-    that reaches none of its actions, is a ConfigError naming the agent, the part and the action."""
-    from ergosim.robot.ik import solve_ik  # noqa: PLC0415
-    from ergosim.robot.kinematics import PandaKinematics  # noqa: PLC0415
+    """The check before any physics, in the built workcell ``cell``: each action with every part where the
+    earlier actions leave it (:func:`_action_states`). A robot allowed an action plans its whole skill from
+    home (reach, grasp, the carry at the cell's carry height, the approach or insertion along the slot's
+    axis, the way out: every waypoint needs an IK solution) and must not need to tilt the part
+    (:func:`_robot_turn`); the worker's part and target must be in reach of a nominal worker of the cell's
+    stature. An action no allowed agent can do, or a robot that can do none of its actions, is a
+    ConfigError naming the agent, the part, the action and why (for the robot, the point with no IK
+    solution)."""
+    from ergosim.twin.robot_track import RobotTrack  # noqa: PLC0415
 
     src = cell.config.source
     robots = set(cell.robots)
@@ -111,53 +190,51 @@ def check_reachability(scenario, task: AndOrGraph, cell) -> None:
     for op in task.operations:
         allowed.setdefault(op.action, set()).update(op.agents)
     human = next(a.name for a in task.agents if a.kind == "human")
-    kin = PandaKinematics() if robots else None
+    cfg = scenario.protocol
+    tracks = {r: RobotTrack(cell, cfg.ee_speed, cfg.transit_speed, robot=r) for r in robots}
     reach_human = _human_reach(cell)
     reached: dict[str, int] = {r: 0 for r in robots}
     tried: dict[str, int] = {r: 0 for r in robots}
-    for action, part_pos in _start_positions(task, cell):
-        geom = cell.actions[action]
-        target = cell.site_pose(geom.target)[0]
-        points = [part_pos, cell.site_pose(geom.handover)[0] if geom.handover else target]
-        able = []
-        for agent in sorted(allowed.get(action, ())):
-            if agent == human:
-                if all(reach_human(p) for p in (part_pos, target)):
-                    able.append(agent)
-            elif agent in robots:
-                tried[agent] += 1
-                if all(_robot_reaches(cell, agent, kin, solve_ik, p) for p in points):
-                    able.append(agent)
-                    reached[agent] += 1
-        if not able:
-            who = " or ".join(sorted(allowed.get(action, ()))) or "no agent"
-            raise ConfigError(f"{who} cannot reach {geom.part} for {action} (from "
-                              f"{np.round(part_pos, 2).tolist()} to {geom.handover or geom.target} at "
-                              f"{np.round(points[1], 2).tolist()}): the run would fail",
-                              where=f"{src}: actions.{action}")
+    start = _Start(cell)
+    try:
+        for action, state, seated in _action_states(task, cell, start):
+            geom = cell.actions[action]
+            part_pos = state[geom.part][0]
+            target = start.target(geom, state)[0]
+            able, why = [], {}
+            agents = sorted(allowed.get(action, ()))
+            if any(a in robots for a in agents):
+                _lay_parts(cell, state, seated)
+            for agent in agents:
+                if agent == human:
+                    if all(reach_human(p) for p in (part_pos, target)):
+                        able.append(agent)
+                    else:
+                        why[agent] = "out of the worker's reach"
+                elif agent in robots:
+                    tried[agent] += 1
+                    reason = (_robot_turn(start, geom, state, cell.config.seat_tolerance_deg)
+                              or tracks[agent].skill_for(geom).plan_error())
+                    if reason is None:
+                        able.append(agent)
+                        reached[agent] += 1
+                    else:
+                        why[agent] = reason
+            if not able:
+                who = " or ".join(agents) or "no agent"
+                said = "; ".join(f"{a}: {w}" for a, w in why.items())
+                goal = f"{geom.handover or start.targets[action]} at {np.round(target, 2).tolist()}"
+                raise ConfigError(f"{who} cannot reach {geom.part} for {action} (from "
+                                  f"{np.round(part_pos, 2).tolist()} to {goal}; {said}): the run would fail",
+                                  where=f"{src}: actions.{action}")
+    finally:
+        cell.reset()
     for robot in robots:
         if tried[robot] and not reached[robot]:
             base = cell.robot_base_pose(robot)[0]
             raise ConfigError(f"robot {robot!r} at {np.round(base, 2).tolist()} reaches none of the "
                               f"{tried[robot]} actions it may do; move its base or take it out of the task",
                               where=f"{src}: robots.{robot}.base")
-
-
-def _robot_reaches(cell, robot: str, kin, solve_ik, point: np.ndarray) -> bool:
-    """A top-down TCP pose of ``robot`` 5 cm above ``point`` (world) within 1 cm of a solution."""
-    base_p, base_q = cell.robot_base_pose(robot)
-    import mujoco  # noqa: PLC0415
-
-    r = np.empty(9)
-    mujoco.mju_quat2Mat(r, base_q)
-    r = r.reshape(3, 3)
-    local = r.T @ (np.asarray(point) + np.array([0, 0, 0.05]) - base_p)
-    down = r.T @ np.diag([1.0, -1.0, -1.0])
-    from ergosim.robot.mjcf import HOME_QPOS  # noqa: PLC0415
-
-    res = solve_ik(kin, local, down, np.asarray(HOME_QPOS, dtype=float), restarts=4,
-                   rng=np.random.default_rng(0))
-    return bool(res.ok or res.pos_error < 0.01)
 
 
 def _human_reach(cell):
