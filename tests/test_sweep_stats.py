@@ -197,6 +197,20 @@ def test_abandoned_units_are_reported_apart_and_left_out_of_the_statistics(two_m
     assert table[0]["small_n"] is False and honly["small_n"] is True  # 5 counted units < SMALL_N
 
 
+def test_an_abandoned_unit_still_counts_for_what_its_calibration_set():
+    """G(a_k) comes from the calibration before the run: whole in an abandoned unit, and leaving it out
+    would drop the workers a cell is hardest for (the shelf study's shortest worker at 1.6 m)."""
+    sweep = load_sweep(Path(__file__).resolve().parents[1] / "examples" / "sweeps" / "shelf_height.toml")
+    rows = []
+    for subject, (g, status) in enumerate([(3.0, "complete")] * 4 + [(7.0, "abandoned")]):
+        rows.append({"cell": 0, "subject": 0, "seed": subject, "mode": "hrc", "status": status,
+                     "rula_g.a1": g, "time_above_vth": 5.0 if status == "complete" else 1.0,
+                     "robot_share.a1": 0.0, "actions.a1": 4, "first_robot_time": 80.0})
+    row = cell_statistics(sweep, rows, {0}).to_pylist()[0]
+    assert row["rula_g.a1.n"] == 5 and row["rula_g.a1.mean"] == pytest.approx(3.8)
+    assert row["time_above_vth.n"] == 4 and row["time_above_vth.mean"] == 5.0
+
+
 def test_cells_table_says_small_n_and_uses_each_metrics_interval(two_mode_sweep):
     sweep = two_mode_sweep
     rows = [r for r in _rows(sweep, shift=3.0) if r["subject"] < 3]

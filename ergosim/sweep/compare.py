@@ -320,10 +320,10 @@ def compare_folders(a: Folder, b: Folder, metrics: Sequence[str] | None = None) 
         rb = [r for r in b.rows if r["cell"] == kb]
         differ = settings_difference(a, ka, b, kb)
         for mode in [m for m in dict.fromkeys(r["mode"] for r in ra) if any(r["mode"] == m for r in rb)]:
-            xa = {(r["subject"], r["seed"]): r for r in counted(ra) if r["mode"] == mode}
-            xb = {(r["subject"], r["seed"]): r for r in counted(rb) if r["mode"] == mode}
-            common = sorted(set(xa) & set(xb))
             for m in metrics:
+                xa = {(r["subject"], r["seed"]): r for r in counted(ra, m) if r["mode"] == mode}
+                xb = {(r["subject"], r["seed"]): r for r in counted(rb, m) if r["mode"] == mode}
+                common = sorted(set(xa) & set(xb))
                 va, vb = [r.get(m) for r in xa.values()], [r.get(m) for r in xb.values()]
                 row = {"cell": label, "mode": mode, "metric": m, "a": metric_ci(list(xa.values()), m),
                        "b": metric_ci(list(xb.values()), m), "settings": differ}

@@ -15,7 +15,7 @@ from ergosim.twin.report import summarise
 
 __all__ = ["METRICS", "ACTION_METRICS", "DEFAULT_METRICS", "INTEGER_METRICS", "metric_columns",
            "check_metric", "unit_metrics", "metric_label", "share_trials", "metric_range",
-           "is_integer_metric"]
+           "is_integer_metric", "from_calibration"]
 
 METRICS: dict[str, str] = {
     "robot_share": "robot share: completed robot actions / completed actions either agent may do",
@@ -78,6 +78,12 @@ def share_trials(metric: str) -> str | None:
     if head == "robot_share" and action:
         return f"actions.{action}"
     return _SHARE_TRIALS.get(metric)
+
+
+def from_calibration(metric: str) -> bool:
+    """A metric the subject's calibration sets before the run (``rula_g.<a>``): a run cut short (an
+    abandoned repetition) leaves it whole."""
+    return metric.startswith("rula_g.")
 
 
 def metric_range(metric: str) -> tuple[float, float | None]:

@@ -74,7 +74,7 @@ def _per_person(rows, metric: str) -> list[dict]:
     worker several times; the interval is over workers, not over their repeated cells."""
     trials = share_trials(metric)
     people: dict[tuple, list] = {}
-    for r in counted(rows):
+    for r in counted(rows, metric):
         if r.get(metric) is not None:
             people.setdefault((r["subject"], r["seed"]), []).append(r)
     out = []
@@ -156,8 +156,8 @@ def _response(out: Path, sweep, factor, rows) -> str:
         axes[k // nc][k % nc].set_visible(False)
     sizes.discard(0)
     per = f"{min(sizes)}–{max(sizes)}" if len(sizes) > 1 else f"{min(sizes, default=0)}"
-    title = f"{sweep.name}: response to {factor.name} (mean and 95 % CI over {per} workers per level and " \
-            "mode, their completed units averaged)"
+    title = _wrap(f"{sweep.name}: response to {factor.name} (mean and 95 % CI over {per} workers per level "
+                  "and mode, their completed units averaged)", int(13 * 4.6 * nc))
     if min(sizes, default=0) < SMALL_N:
         title += f"\nsmall n (< {SMALL_N}): the intervals are wide and no paired test can reach p < 0.05"
     fig.suptitle(title, fontsize=10)
@@ -228,7 +228,7 @@ def _heatmap(out: Path, sweep, a, b, rows) -> str:
     title = f"{sweep.name}: mean per cell{per} completed units over {a.name} × {b.name}"
     if sizes and min(sizes) < SMALL_N:
         title += f" (small n: < {SMALL_N})"
-    fig.suptitle(title, fontsize=10)
+    fig.suptitle(_wrap(title, int(13 * 4.3 * nc)), fontsize=10)
     fig.tight_layout()
     name = f"heatmap_{_safe(a.name)}__{_safe(b.name)}.png"
     save_figure(fig, out / name)

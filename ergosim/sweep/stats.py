@@ -15,6 +15,8 @@ can be, paired and unpaired differences, and the per-cell table ``cells.parquet`
   has the metrics of a run cut short (a partial KWear integral, fewer actions), which would pull a mean
   down and fake a paired difference. Both are counted apart (``units_failed``, ``units_abandoned``) and
   left out of every mean, interval and difference; a pair counts only when both its units completed.
+  G(a_k) (``rula_g.<a>``) comes from the calibration before the run, whole in an abandoned unit too,
+  which counts for it: leaving it out would drop the workers a cell is hardest for.
 - **Paired differences** (the same subject and seed in both, e.g. two modes of one cell): the t interval
   of the differences and the two-sided Wilcoxon signed-rank test, as the paper's §7.2 compares hrc with
   h-only (:func:`~ergosim.twin.report.wilcoxon_between`). With n non-zero differences the test's
@@ -33,7 +35,7 @@ import numpy as np
 import pyarrow as pa
 from scipy import stats
 
-from ergosim.sweep.metrics import metric_range, share_trials
+from ergosim.sweep.metrics import from_calibration, metric_range, share_trials
 from ergosim.sweep.tables import param_type, param_value
 from ergosim.twin.report import wilcoxon_between
 
@@ -186,15 +188,17 @@ def unpaired_difference(a: Sequence[float | None], b: Sequence[float | None], me
     return out
 
 
-def counted(rows: Sequence[Mapping[str, Any]]) -> list[Mapping[str, Any]]:
-    """The rows whose units enter the statistics: the complete ones (failed and abandoned units are
-    reported apart; module docstring)."""
-    return [r for r in rows if r["status"] == "complete"]
+def counted(rows: Sequence[Mapping[str, Any]], metric: str | None = None) -> list[Mapping[str, Any]]:
+    """The rows whose units enter the statistics of ``metric``: the complete ones (failed and abandoned
+    units are reported apart; module docstring), and the abandoned ones too for a metric the calibration
+    set before the run (G(a_k): leaving them out would drop the workers the cell is hardest for)."""
+    keep = ("complete", "abandoned") if metric is not None and from_calibration(metric) else ("complete",)
+    return [r for r in rows if r["status"] in keep]
 
 
-def _by_person(rows: Sequence[Mapping[str, Any]]) -> dict[tuple, Mapping[str, Any]]:
-    """(subject, seed) -> the row, of the units that count."""
-    return {(r["subject"], r["seed"]): r for r in counted(rows)}
+def _by_person(rows: Sequence[Mapping[str, Any]], metric: str) -> dict[tuple, Mapping[str, Any]]:
+    """(subject, seed) -> the row, of the units that count for ``metric``."""
+    return {(r["subject"], r["seed"]): r for r in counted(rows, metric)}
 
 
 def cell_statistics(sweep, rows: Sequence[Mapping[str, Any]], complete_cells: set[int]) -> pa.Table:
@@ -219,7 +223,7 @@ def cell_statistics(sweep, rows: Sequence[Mapping[str, Any]], complete_cells: se
         if cell.index not in complete_cells:
             continue
         modes = by_cell.get(cell.index, {})
-        base = _by_person(modes.get(baseline, []))
+        base_rows = modes.get(baseline, [])
         for mode in sweep.modes:
             mode_rows = modes.get(mode, [])
             used = counted(mode_rows)
@@ -237,15 +241,15 @@ def cell_statistics(sweep, rows: Sequence[Mapping[str, Any]], complete_cells: se
             data["small_n"].append(len(used) < SMALL_N)
             data["mode"].append(mode)
             data["baseline"].append(baseline if mode != baseline else None)
-            this = _by_person(mode_rows)
-            keys = sorted(set(base) & set(this))
             for m in sweep.metrics:
-                s = metric_ci(used, m)
+                s = metric_ci(counted(mode_rows, m), m)
                 for k in STAT_SUFFIXES:
                     data[f"{m}.{k}"].append(s[k])
                 if mode == baseline:
                     d = dict.fromkeys(DIFF_SUFFIXES)
                 else:
+                    base, this = _by_person(base_rows, m), _by_person(mode_rows, m)
+                    keys = sorted(set(base) & set(this))
                     d = paired_difference([base[k].get(m) for k in keys], [this[k].get(m) for k in keys], m)
                 for k in DIFF_SUFFIXES:
                     data[f"{m}.{k}"].append(d[k])
