@@ -154,15 +154,17 @@ def test_failed_robot_attempts_do_not_count_as_robot_actions(tmp_path):
 # -- 4. impossible runs: exit 3, complete false, abandoned repetitions named --------------------------
 def test_a_run_with_an_abandoned_repetition_exits_3_and_says_why(tmp_path, capsys):
     out = tmp_path / "l"
-    code = main(["run", "multi-subject", "--subjects", "1", "--reps", "2", "--mode", "h-only", "--jobs", "1",
-                 "--quiet", "--set", "scene.l_xy=0.72,1.03", "--out", str(out)])
+    # the shortest worker of the shelf study (seed 3, 1.50 m) and J on a 1.60 m ledge: the check before any
+    # physics takes the cell's nominal stature, the run finds this worker cannot reach J (docs/sweeps.md)
+    code = main(["run", "kwear-validation", "--seed", "3", "--subjects", "1", "--reps", "2", "--mode",
+                 "h-only", "--jobs", "1", "--quiet", "--set", "scene.shelf_height=1.6", "--out", str(out)])
     printed = capsys.readouterr()
     assert code == 3
     summary = _valid_outputs(out)
     assert summary["complete"] is False and summary["status"] == "abandoned"
     reps = summary["modes"]["h-only"]["repetitions"]
     assert [r["outcome"] for r in reps] == ["abandoned", "not_run"]
-    assert "a2" in reps[0]["reason"] and reps[1]["reason"] == "repetition 1 was abandoned"
+    assert "a1" in reps[0]["reason"] and reps[1]["reason"] == "repetition 1 was abandoned"
     assert summary["modes"]["h-only"]["repetitions_completed"] == 0
     assert json.loads((out / "run.json").read_text())["status"] == "abandoned"
     assert "[INCOMPLETE: repetitions abandoned]" in printed.out
@@ -170,7 +172,7 @@ def test_a_run_with_an_abandoned_repetition_exits_3_and_says_why(tmp_path, capsy
     assert "exit status 3" in printed.err and "Traceback" not in printed.err
     with (out / "allocations.csv").open() as f:
         rows = list(csv.DictReader(f))
-    assert any(r["status"] == "pruned" and r["action"] == "a2" for r in rows)
+    assert any(r["status"] == "pruned" and r["action"] == "a1" for r in rows)
 
 
 # -- 5. a run owns its folder -----------------------------------------------------------------------------

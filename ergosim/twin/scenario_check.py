@@ -179,9 +179,9 @@ def check_reachability(scenario, task: AndOrGraph, cell) -> None:
     home (reach, grasp, the carry at the cell's carry height, the approach or insertion along the slot's
     axis, the way out: every waypoint needs an IK solution) and must not need to tilt the part
     (:func:`_robot_turn`); the worker's part and target must be in reach of a nominal worker of the cell's
-    stature. An action no allowed agent can do, or a robot that can do none of its actions, is a
-    ConfigError naming the agent, the part, the action and why (for the robot, the point with no IK
-    solution)."""
+    stature (:func:`_human_reach`). An action no allowed agent can do, or a robot that can do none of its
+    actions, is a ConfigError naming the agent, the part, the action and why (for the robot, the point with
+    no IK solution)."""
     from ergosim.twin.robot_track import RobotTrack  # noqa: PLC0415
 
     src = cell.config.source
@@ -238,17 +238,26 @@ def check_reachability(scenario, task: AndOrGraph, cell) -> None:
 
 
 def _human_reach(cell):
-    """A reach test for the cell's worker: within the arm's length plus a trunk lean of either shoulder."""
+    """A reach test for the cell's worker: within the arm's length of either shoulder, plus a trunk lean
+    for a point level with or below the shoulder."""
     from ergosim.human.model import SHOULDER_BODIES  # noqa: PLC0415
 
     stature = cell.config.worker.stature
     shoulders = [cell.body_pose(b)[0] for b in SHOULDER_BODIES.values()]
     # Arm length, shoulder to grip centre, ~0.36 of stature (Drillis & Contini segment proportions); bending
     # and twisting the trunk adds up to ~0.25 of stature of reach (assumed lean allowance, generous: the
-    # worker's IK decides the rest at run time).
-    limit = (0.36 + 0.25) * stature
+    # worker's IK decides the rest at run time). A lean takes the shoulder forward, sideways and down, not
+    # up: the allowance shrinks with the point's elevation above the shoulder and is gone straight
+    # overhead, where the reach is the arm's (overhead grip reach ~1.2 of stature: shoulder height 0.818
+    # + arm 0.36, Drillis & Contini).
+    arm, lean = 0.36 * stature, 0.25 * stature
 
     def reach(point: np.ndarray) -> bool:
-        return bool(min(np.linalg.norm(np.asarray(point) - s) for s in shoulders) <= limit)
+        for s in shoulders:
+            d = np.asarray(point) - s
+            dist = float(np.linalg.norm(d))
+            if dist <= arm + lean * (1.0 - max(0.0, d[2]) / max(dist, 1e-9)):
+                return True
+        return False
 
     return reach
