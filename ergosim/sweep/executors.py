@@ -27,6 +27,7 @@ from ergosim.errors import ConfigError, ErgosimError
 from ergosim.plugins import extension_modules
 from ergosim.sweep.units import Unit, failed_document, run_unit
 from ergosim.twin.interrupt import quiet_worker, signals_ignored, stop_pool
+from ergosim.twin.spawn_guard import check_main_guard
 
 __all__ = ["Executor", "LocalExecutor", "RayExecutor", "SweepError", "make_executor", "EXECUTORS"]
 
@@ -79,6 +80,7 @@ class LocalExecutor(Executor):
             for scenario, unit in tasks:
                 yield run_unit(scenario, unit, actions, extension_modules())
             return
+        check_main_guard(where="jobs")
         ctx = multiprocessing.get_context("spawn")
         pending: dict[cf.Future, Unit] = {}
         extensions = extension_modules()

@@ -37,6 +37,7 @@ from ergosim.twin.run_summary import summary_of, write_record_files
 from ergosim.twin.runner import SubjectResult, run_subject, scenario_subject, subject_cell
 from ergosim.twin.scenario import ScenarioConfig
 from ergosim.twin.scenariofile import Scenario
+from ergosim.twin.spawn_guard import check_main_guard
 from ergosim.twin.subject_records import SubjectRecord
 from ergosim.twin.team_metrics import team_document, team_in_summary
 
@@ -160,6 +161,7 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
                            overrides=scenario.overrides)
                     bar.advance()
             else:
+                check_main_guard(where="jobs")
                 ctx = multiprocessing.get_context("spawn")
                 with signals_ignored():
                     pool = cf.ProcessPoolExecutor(max_workers=jobs, mp_context=ctx, initializer=quiet_worker)
