@@ -14,7 +14,7 @@ import os
 import sys
 
 from ergosim import __version__
-from ergosim.errors import ErgosimError
+from ergosim.errors import ErgosimError, one_line_warnings
 
 __all__ = ["main", "build_parser"]
 
@@ -46,6 +46,7 @@ def headless_gl() -> None:
 
 def main(argv: list[str] | None = None) -> int:
     headless_gl()
+    one_line_warnings()
     parser = build_parser()
     args = parser.parse_args(argv)
     try:

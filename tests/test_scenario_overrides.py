@@ -92,7 +92,7 @@ def test_another_task_and_workcell_by_file(tmp_path):
     scenario = write_product(tmp_path / "own")
     sc = load_scenario("gearbox", {"task": str(tmp_path / "own" / "bracket_task.toml"),
                                    "workcell": str(tmp_path / "own" / "bracket_cell.toml")})
-    assert sc.protocol.task == "bracket_task" and sc.protocol.scene == "bracket-cell"
+    assert sc.protocol.task == "bracket" and sc.protocol.scene == "bracket-cell"
     assert sc.task().actions == ("b1", "b2", "b3", "b4", "b5")
     assert scenario.exists()
 

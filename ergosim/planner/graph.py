@@ -84,6 +84,9 @@ class AndOrGraph:
 
     def _build_nodes(self) -> None:
         masks_of = []
+        # each node's part indices, ascending: its sort key, and its parts, without reading bits back out of
+        # a mask as wide as the task (which made a large task file quadratic to read)
+        indices_of: dict[int, tuple[int, ...]] = {}
         structure: dict[frozenset[int], str] = {}
         self._op_index: dict[str, int] = {}
         for i, op in enumerate(self.operations):
@@ -99,6 +102,9 @@ class AndOrGraph:
                 )
             structure[key] = op.name
             masks_of.append((father, children))
+            for mask, names in zip((father, *children), (op.father, *op.children), strict=True):
+                if mask not in indices_of:
+                    indices_of[mask] = tuple(sorted(self._part_index[p] for p in names))
         root = (1 << len(self.parts)) - 1
         joined = 0
         by_father: dict[int, list[int]] = {}
@@ -132,7 +138,10 @@ class AndOrGraph:
                     "a child of any operation on the way to the full assembly",
                     where=self.where(op.name),
                 )
-        self._node_masks = sorted(reached, key=lambda m: (m.bit_count(), _bits(m)))
+        indices_of[root] = tuple(range(len(self.parts)))
+        indices_of.update({1 << i: (i,) for i in range(len(self.parts))})
+        self._node_masks = sorted(reached, key=lambda m: (len(indices_of[m]), indices_of[m]))
+        self._node_indices = [indices_of[m] for m in self._node_masks]
         self._node_of = {m: i for i, m in enumerate(self._node_masks)}
         self._op_father = [self._node_of[f] for f, _ in masks_of]
         self._op_children = [tuple(self._node_of[c] for c in ch) for _, ch in masks_of]
@@ -180,7 +189,7 @@ class AndOrGraph:
         return tuple(self.node_parts(i) for i in range(self.n_nodes))
 
     def node_parts(self, node: int) -> tuple[str, ...]:
-        return tuple(self.parts[i] for i in _bits(self._node_masks[node]))
+        return tuple(self.parts[i] for i in self._node_indices[node])
 
     def operation(self, name: str) -> Operation:
         """The operation called ``name``; ConfigError if there is none."""

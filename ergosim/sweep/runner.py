@@ -114,17 +114,28 @@ def run_sweep(sweep, out: str | Path, *, executor: str = "local", jobs: int | No
         skipped = len(docs)
         # a unit shared by two cells (the same resolved scenario) runs once
         todo = list({u.id: u for u in units if u.id not in docs}.values())
-        if sweep_text is not None:
-            folder.write_sweep_file(sweep_text)
+        # the executor first (a Ray cluster that cannot be reached is refused now), so a sweep that never
+        # started leaves no manifest saying "running"
+        ex = None
+        if todo:
+            workers = min(jobs or os.cpu_count() or 1, len(todo)) if executor == "local" else jobs
+            with interrupt_on_signals():
+                ex = make_executor(executor, workers, ray_address)
         described: dict[str, Any] = {"executor": executor}
-        folder.write_manifest(_manifest(sweep, "running", "", units, docs, skipped, 0, set(), described, 0.0,
-                                        []))
+        try:
+            if sweep_text is not None:
+                folder.write_sweep_file(sweep_text)
+            folder.write_manifest(_manifest(sweep, "running", "", units, docs, skipped, 0, set(), described,
+                                            0.0, []))
+        except BaseException:
+            if ex is not None:
+                ex.stop(cancel=True)
+            raise
         status, reason, ran, plots, complete = "failed", "", 0, [], set()
         try:
             with interrupt_on_signals():
-                if todo:
-                    workers = min(jobs or os.cpu_count() or 1, len(todo)) if executor == "local" else jobs
-                    with make_executor(executor, workers, ray_address) as ex:
+                if ex is not None:
+                    with ex:
                         described = ex.describe()
                         bar = tqdm(total=len(units), initial=skipped, desc=sweep.name, unit="unit",
                                    disable=not progress, file=sys.stderr, dynamic_ncols=True, smoothing=0.05,

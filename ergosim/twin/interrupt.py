@@ -13,6 +13,8 @@ import signal
 import threading
 from collections.abc import Iterator
 
+from ergosim.errors import one_line_warnings
+
 __all__ = ["Interrupted", "interrupt_on_signals", "signals_ignored", "quiet_worker", "stop_pool",
            "stop_reason", "STOP_SIGNALS"]
 
@@ -56,9 +58,11 @@ def interrupt_on_signals() -> Iterator[None]:
 
 
 def quiet_worker() -> None:
-    """Initializer of a worker process: ignore SIGINT and SIGTERM (the main process stops the workers)."""
+    """Initializer of a worker process: ignore SIGINT and SIGTERM (the main process stops the workers), and
+    print warnings as one line (:func:`~ergosim.errors.one_line_warnings`)."""
     for s in STOP_SIGNALS:
         signal.signal(s, signal.SIG_IGN)
+    one_line_warnings()
 
 
 @contextlib.contextmanager

@@ -15,15 +15,35 @@ import dataclasses
 from typing import Literal
 
 from ergosim.errors import ConfigError
+from ergosim.machine import physical_memory
 from ergosim.robot.trajectory import CONTACT_SPEED, TRANSIT_SPEED
 from ergosim.twin.modes import mode_names
 
-__all__ = ["ScenarioConfig", "EE_SPEED_MAX", "ETA_MAX_LIMIT", "TEAM_FIELDS"]
+__all__ = ["ScenarioConfig", "EE_SPEED_MAX", "EE_SPEED_MIN", "ETA_MAX_LIMIT", "TEAM_FIELDS", "PHYSICS_DT_MIN",
+           "TAKT_MAX", "HORIZON_MAX", "SUBJECTS_MAX", "W_TIME_MAX", "run_memory"]
 
 EE_SPEED_MAX = 1.7
 """Largest end-effector speed [m/s]: the Franka Emika Panda's Cartesian translation limit (Franka Control
 Interface documentation, "Limits for Panda": 1.7 m/s)."""
 ETA_MAX_LIMIT = 50
+EE_SPEED_MIN = 1e-3
+"""Slowest contact-critical TCP speed [m/s] (assumed): at 1 mm/s a few centimetres of approach already take
+a minute, and a planned motion holds a joint target per physics step."""
+PHYSICS_DT_MIN = 1e-4
+"""Finest physics step [s] (assumed: 10 kHz, ten times the Panda's 1 kHz control rate; the default is
+1/240 s). A finer one makes every simulated second cost tens of thousands of steps."""
+TAKT_MAX = 3600.0
+"""Longest takt [s] (assumed: a cycle of an hour is no longer a takt-timed line). The twin simulates the
+rest until each repetition's takt slot."""
+HORIZON_MAX = 86_400.0
+"""Longest schedule, repetitions × takt [s] (a day); the run simulates all of it, rests included."""
+W_TIME_MAX = 1e6
+"""Largest weight of the time term [cost per second] (assumed: the other costs are of order 1, so at 10^6 time
+already decides every choice; far larger weights overflow the costs)."""
+SUBJECTS_MAX = 10_000
+"""Most subjects of one run (a study has tens; each keeps its records in memory until the run ends)."""
+_TICK_BYTES_PER_COLUMN = 2 * 8
+"""Memory per logged tick and column [bytes]: a float64, in a log that grows by doubling."""
 """Largest eta_max (calibration passes, §5). Assumed: each pass performs every action once (about a minute
 of simulated work), so 50 passes already take minutes of wall time per subject; the paper's η stay < 10."""
 
@@ -100,9 +120,13 @@ class ScenarioConfig:
             if not ok:
                 raise ConfigError(msg, where=where)
 
-        need(self.subjects >= 1, f"subjects must be >= 1, got {self.subjects}")
+        need(1 <= self.subjects <= SUBJECTS_MAX,
+             f"subjects must be in 1..{SUBJECTS_MAX}, got {self.subjects}")
         need(self.repetitions >= 1, f"repetitions must be >= 1, got {self.repetitions}")
-        need(self.takt > 0, f"takt must be > 0 s, got {self.takt}")
+        need(0 < self.takt <= TAKT_MAX, f"takt must be in (0, {TAKT_MAX:g}] s, got {self.takt:g}")
+        need(self.repetitions * self.takt <= HORIZON_MAX,
+             f"repetitions × takt must be at most {HORIZON_MAX:g} s (a day, simulated rests included), got "
+             f"{self.repetitions} × {self.takt:g} s")
         need(all(m in mode_names() for m in self.modes) and len(self.modes) > 0,
              f"modes must be among {', '.join(mode_names())}, got {','.join(self.modes)}")
         need(self.robot_cost > 0, f"robot_cost must be > 0, got {self.robot_cost}")
@@ -113,14 +137,14 @@ class ScenarioConfig:
         need(abs(ratio - round(ratio)) < 1e-9 and ratio >= 1,
              f"mocap_rate ({self.mocap_rate} Hz) must be a whole multiple of ergonomics_rate "
              f"({self.ergonomics_rate} Hz)")
-        need(0 < self.physics_dt <= 1 / self.mocap_rate,
-             f"physics_dt must be in (0, 1/mocap_rate], got {self.physics_dt}")
-        need(0 < self.ee_speed <= EE_SPEED_MAX,
-             f"ee_speed must be in (0, {EE_SPEED_MAX}] m/s (the Panda's Cartesian limit), "
-             f"got {self.ee_speed}")
-        need(0 < self.transit_speed <= EE_SPEED_MAX,
-             f"transit_speed must be in (0, {EE_SPEED_MAX}] m/s (the Panda's Cartesian limit), "
-             f"got {self.transit_speed}")
+        need(PHYSICS_DT_MIN <= self.physics_dt <= 1 / self.mocap_rate,
+             f"physics_dt must be in [{PHYSICS_DT_MIN:g}, 1/mocap_rate] s, got {self.physics_dt:g}")
+        need(EE_SPEED_MIN <= self.ee_speed <= EE_SPEED_MAX,
+             f"ee_speed must be in [{EE_SPEED_MIN:g}, {EE_SPEED_MAX}] m/s (the Panda's Cartesian limit), "
+             f"got {self.ee_speed:g}")
+        need(EE_SPEED_MIN <= self.transit_speed <= EE_SPEED_MAX,
+             f"transit_speed must be in [{EE_SPEED_MIN:g}, {EE_SPEED_MAX}] m/s (the Panda's Cartesian "
+             f"limit), got {self.transit_speed:g}")
         need(self.ee_speed <= self.transit_speed,
              f"ee_speed ({self.ee_speed} m/s, contact-critical motion) must not exceed transit_speed "
              f"({self.transit_speed} m/s, free-space motion)")
@@ -137,7 +161,8 @@ class ScenarioConfig:
              f"got {self.pace}")
         need(self.execution in ("sequential", "parallel"),
              f"execution must be sequential or parallel, got {self.execution!r}")
-        need(self.w_time >= 0, f"w_time must be >= 0 (cost per second), got {self.w_time}")
+        need(0 <= self.w_time <= W_TIME_MAX, f"w_time must be in [0, {W_TIME_MAX:g}] (cost per second), got "
+             f"{self.w_time:g}")
         need(self.team_margin is None or self.team_margin > 0,
              f"team_margin must be > 0 or none, got {self.team_margin}")
         need(0 < self.refusal_tolerance < 1,
@@ -145,6 +170,12 @@ class ScenarioConfig:
         need(self.refusal_tolerance_sd >= 0, f"refusal_tolerance_sd must be >= 0, got "
              f"{self.refusal_tolerance_sd}")
         need(self.refusal_slope > 0, f"refusal_slope must be > 0, got {self.refusal_slope}")
+        held, memory = run_memory(self), physical_memory()
+        need(held <= memory / 2,
+             f"subjects × modes × repetitions × takt = {self.subjects} × {len(self.modes)} × "
+             f"{self.repetitions} × {self.takt:g} s of records at {self.ergonomics_rate:g} Hz need about "
+             f"{held / 1e9:.3g} GB in memory; this machine has {memory / 1e9:.3g} GB (at most half of it "
+             "is used)")
 
     def record(self) -> dict:
         """The protocol as the outputs record it (``summary.json`` ``config``, ``run.json``): every field,
@@ -170,3 +201,12 @@ class ScenarioConfig:
 TEAM_FIELDS = ("execution", "w_time", "team_margin", "negotiation", "refusal_tolerance",
                "refusal_tolerance_sd", "refusal_slope")
 """The protocol fields of team execution (issue 17)."""
+
+
+def run_memory(cfg: ScenarioConfig) -> float:
+    """Bytes a whole run of ``cfg`` holds in memory at its end: every subject's per-tick records of every
+    mode over the schedule (repetitions × takt at the ergonomics rate)."""
+    from ergosim.twin.records import TICK_COLUMNS  # noqa: PLC0415
+
+    ticks = cfg.repetitions * cfg.takt * cfg.ergonomics_rate
+    return float(cfg.subjects) * len(cfg.modes) * ticks * len(TICK_COLUMNS) * _TICK_BYTES_PER_COLUMN

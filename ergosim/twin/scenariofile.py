@@ -181,15 +181,24 @@ def _resolve_task(value: Any, base: Path, where: str) -> tuple[dict[str, Any], s
                           where=f"{where}: task")
     if value in BUNDLED_TASKS:
         source = bundled_task_source(value)
-        return tomllib.loads(bundled_task_text(value)), source, Path(source).stem
+        doc = tomllib.loads(bundled_task_text(value))
+        return doc, source, _task_name(doc, source)
     path = (base / value) if not Path(value).is_absolute() else Path(value)
     if not path.is_file():
         raise ConfigError(f"no such task file {str(path)!r} (nor a bundled task: {', '.join(BUNDLED_TASKS)})",
                           where=f"{where}: task")
     try:
-        return read_toml(path, what="task file"), str(path), path.stem
+        doc = read_toml(path, what="task file")
     except ConfigError as err:
         raise TaskFileError(err.what, where=err.where) from None
+    return doc, str(path), _task_name(doc, str(path))
+
+
+def _task_name(doc: Mapping[str, Any], source: str) -> str:
+    """The task's label (``config.task``): its ``name``, as the task reader takes it (default: the file's
+    stem)."""
+    name = doc.get("name")
+    return name if isinstance(name, str) and name else Path(source).stem
 
 
 def _resolve_cell(value: Any, base: Path, where: str) -> tuple[dict[str, Any], str]:
