@@ -12,7 +12,7 @@ from ergosim.planner.generators import generate_task
 from ergosim.planner.graph import PLANNERS, AndOrGraph
 from ergosim.planner.liaisons import Liaison
 from ergosim.planner.outside import outside_costs, through_costs
-from ergosim.planner.paper_search import SearchBudgetExceeded
+from ergosim.planner.paper_search import SearchBudgetExceeded, SearchMemoryExceeded
 from ergosim.planner.plan import Plan, PlanStep, replan_until_done
 from ergosim.planner.taskfile import load_task, parse_task, task_from_dict
 from ergosim.planner.team import TeamAssignment, TeamStep, team_assign
@@ -35,6 +35,7 @@ __all__ = [
     "BUNDLED_TASKS",
     "replan_until_done",
     "SearchBudgetExceeded",
+    "SearchMemoryExceeded",
     "team_assign",
     "TeamStep",
     "TeamAssignment",
