@@ -373,7 +373,7 @@ def test_eta_max_is_bounded(capsys, tmp_path):
 def test_ee_speed_is_bounded_by_the_panda(capsys, tmp_path):
     code = main(["run", "kwear-validation", "--quiet", "--out", str(tmp_path / "n"),
                  "--set", "ee_speed=100"])
-    _one_line_error(capsys, code, "ee_speed must be in (0, 1.7] m/s")
+    _one_line_error(capsys, code, "ee_speed must be in [0.001, 1.7] m/s")
     from ergosim.overrides import apply_overrides  # noqa: PLC0415
     from ergosim.twin.scenariofile import scenario_config  # noqa: PLC0415
 
@@ -571,20 +571,28 @@ def test_a_second_run_into_a_folder_in_use_is_refused(tmp_path, capsys):
 
 
 def test_two_concurrent_processes_into_one_folder(tmp_path):
+    """A long first run holds the folder; a second process is refused (at HEAD both exited 0 and the folder
+    mixed their files); the first is then stopped with Ctrl-C and its outputs are its own."""
     out = tmp_path / "o"
-    first = subprocess.Popen([sys.executable, "-m", "ergosim.cli", *KV, "--out", str(out)],
+    long_run = ["run", "kwear-validation", "--subjects", "6", "--reps", "2", "--jobs", "1", "--quiet"]
+    first = subprocess.Popen([sys.executable, "-m", "ergosim.cli", *long_run, "--out", str(out)],
                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                              env={**os.environ, "MUJOCO_GL": "egl"})
-    deadline = time.monotonic() + 120
-    while not (out / "run.json").is_file() and time.monotonic() < deadline:
-        assert first.poll() is None, first.communicate()
-        time.sleep(0.05)
-    second = _cli([*KV, "--out", str(out)], timeout=120)
-    _, err = first.communicate(timeout=300)
-    assert first.returncode == 0, err
-    assert second.returncode == 2 and "another ergosim run is writing into" in second.stderr
+    try:
+        deadline = time.monotonic() + 120
+        while not (out / "run.json").is_file() and time.monotonic() < deadline:
+            assert first.poll() is None, first.communicate()
+            time.sleep(0.05)
+        second = _cli([*KV, "--out", str(out)], timeout=300)
+        assert first.poll() is None, "the first run ended before the second tried: the test proves nothing"
+    finally:
+        first.send_signal(signal.SIGINT)
+        _, err = first.communicate(timeout=300)
+    assert second.returncode == 2 and "another ergosim run is writing into" in second.stderr, second.stderr
     assert "Traceback" not in second.stderr and second.stderr.count("\n") == 1
-    assert json.loads((out / "run.json").read_text())["status"] == "complete"
+    assert first.returncode == 130, err
+    manifest = json.loads((out / "run.json").read_text())
+    assert manifest["status"] == "interrupted" and manifest["config"]["subjects"] == 6
 
 
 # -- values bounded by what the simulation can hold ---------------------------------------------------------

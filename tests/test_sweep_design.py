@@ -193,7 +193,7 @@ BAD = [
     ('scenario = "kwear-validation"\n[grid]\nscene.shelf_height = [1.4, 2.9]\n', "grid.scene.shelf_height"),
     ('scenario = "kwear-validation"\n[grid]\nscene.shelf_height = [1.45, 1.35]\n'
      'scene.shelf_low_height = [1.0, 1.1]\n', "cell 3 (scene.shelf_height=1.35, scene.shelf_low_height=1.1)"),
-    ('scenario = "kwear-validation"\n[grid]\ntakt = [-1.0, 30.0]\n', "takt must be > 0"),
+    ('scenario = "kwear-validation"\n[grid]\ntakt = [-1.0, 30.0]\n', "takt must be in (0, 3600] s"),
     ('scenario = "multi-subject"\n[zip]\n"scene.l_xy" = [[0.2, 0.8]]\n'
      '"scene.s1_xy" = [[0.3, 0.9], [0.3, 0.8]]\n', "one length"),
     ('scenario = "kwear-validation"\n[grid]\ntakt = [38.0]\n[zip]\ntakt = [40.0]\n', "both [grid] and [zip]"),

@@ -34,8 +34,8 @@ def test_both_speeds_are_protocol_fields_with_their_sources():
 
 
 @pytest.mark.parametrize("setting, needle", [
-    ("transit_speed=5", "transit_speed must be in (0, 1.7] m/s (the Panda's Cartesian limit), got 5.0"),
-    ("transit_speed=0", "transit_speed must be in (0, 1.7] m/s"),
+    ("transit_speed=5", "transit_speed must be in [0.001, 1.7] m/s (the Panda's Cartesian limit), got 5"),
+    ("transit_speed=0", "transit_speed must be in [0.001, 1.7] m/s"),
     ("transit_speed=fast", "transit_speed='fast' is not a number"),
     ("ee_speed=0.3", "ee_speed (0.3 m/s, contact-critical motion) must not exceed transit_speed (0.25 m/s"),
 ])
