@@ -439,6 +439,114 @@ def test_sigterm_writes_the_finished_subjects_like_sigint(tmp_path):
     assert json.loads((out / "run.json").read_text())["status"] == "interrupted"
 
 
+def _signal_during(monkeypatch, module, name: str, signum: int) -> None:
+    """``module.name`` sends ``signum`` to this process once it has done its work: a signal that lands
+    while a run writes its final results."""
+    real = getattr(module, name)
+
+    def then_signal(*args, **kwargs):
+        value = real(*args, **kwargs)
+        os.kill(os.getpid(), signum)
+        return value
+
+    monkeypatch.setattr(module, name, then_signal)
+
+
+def test_a_signal_while_a_finished_run_is_written_leaves_it_interrupted(tmp_path, capsys, monkeypatch):
+    """Ctrl-C while the plots of a run whose subjects all finished are drawn: the files are written whole,
+    summary.json and run.json say interrupted (the CLI exits 130), not "running"."""
+    from ergosim.twin import scenario_run  # noqa: PLC0415
+
+    _signal_during(monkeypatch, scenario_run, "write_plots", signal.SIGINT)
+    out = tmp_path / "o"
+    code = main([*KV, "--subjects", "1", "--out", str(out)])
+    assert code == 130
+    assert capsys.readouterr().err.strip().splitlines()[-1] == "ergosim: interrupted"
+    summary = _valid_outputs(out)
+    assert summary["status"] == "interrupted" and summary["complete"] is False
+    assert summary["subjects_finished"] == 1 and (out / "ticks.csv").is_file()
+    run = json.loads((out / "run.json").read_text())
+    assert run["status"] == "interrupted" and "while the results were written" in run["reason"]
+    assert "ticks.csv" in run["files"] and "kwear_timeline_hrc.png" in run["files"]
+
+
+def test_a_signal_while_a_finished_sweep_is_written_leaves_it_interrupted(tmp_path, capsys, monkeypatch):
+    from ergosim.sweep import runner  # noqa: PLC0415
+
+    path = tmp_path / "one.toml"
+    path.write_text('name = "one"\nscenario = "kwear-validation"\nsubjects = 1\nseeds = [0]\n'
+                    'modes = ["hrc"]\n[set]\nrepetitions = 1\neta_max = 2\n[grid]\nrobot_cost = [25.0]\n')
+    _signal_during(monkeypatch, runner, "_consolidate", signal.SIGTERM)
+    out = tmp_path / "s"
+    code = main(["sweep", str(path), "--out", str(out), "--jobs", "1", "--quiet"])
+    assert code == 128 + signal.SIGTERM
+    assert "ergosim: interrupted by SIGTERM" in capsys.readouterr().err
+    manifest = json.loads((out / "sweep.json").read_text())
+    assert manifest["status"] == "interrupted", manifest["status"]
+    assert "while the results were written" in manifest["reason"]
+
+
+_SIGNAL_IN_MUJOCO_CALLBACK = """
+import os, signal, sys
+import mujoco
+from ergosim.scenes import build_cell
+from ergosim.twin.interrupt import Interrupted, interrupt_on_signals
+from ergosim.twin.scenariofile import load_scenario
+
+spec = load_scenario("kwear-validation").cell()
+set_warning = mujoco.set_mju_user_warning
+calls = []
+
+def set_signalling(callback):  # the first warning MuJoCo sends comes with a SIGTERM
+    def warned(msg):
+        if not calls:
+            os.kill(os.getpid(), signal.SIGTERM)
+        calls.append(msg)
+        return callback(msg)
+    set_warning(warned if callable(callback) else callback)
+
+mujoco.set_mju_user_warning = set_signalling
+try:
+    with interrupt_on_signals():
+        build_cell(spec)
+except Interrupted as err:
+    print(f"stopped by {err} after {len(calls)} MuJoCo warning(s)")
+    sys.exit(0)
+print("not stopped")
+"""
+
+
+def test_a_signal_inside_mujocos_warning_callback_stops_the_build_instead_of_aborting():
+    """SIGTERM handled inside the Python function MuJoCo's C++ calls when it warns (building a cell):
+    raised there, Interrupted unwound through C++ and the process aborted ("libc++abi: terminating", exit
+    -6, nothing written). The build holds the signal and raises it once MuJoCo has returned."""
+    proc = subprocess.run([sys.executable, "-c", _SIGNAL_IN_MUJOCO_CALLBACK], capture_output=True, text=True,
+                          timeout=240, env={**os.environ, "MUJOCO_GL": "egl"}, check=False)
+    assert proc.returncode == 0, (proc.returncode, proc.stderr[-2000:])
+    assert "libc++abi" not in proc.stderr
+    assert proc.stdout.startswith("stopped by SIGTERM after "), proc.stdout
+    assert not proc.stdout.startswith("stopped by SIGTERM after 0 ")
+
+
+def test_stop_signals_raise_once_and_hold_the_rest():
+    from ergosim.twin.interrupt import Interrupted, StopSignals  # noqa: PLC0415
+
+    stop = StopSignals()
+    with pytest.raises(Interrupted):
+        stop.handle(signal.SIGINT)
+    stop.handle(signal.SIGTERM)  # the run is stopping: a second signal waits
+    assert stop.holding and stop.held == signal.SIGTERM
+    with pytest.raises(Interrupted, match="SIGTERM"):
+        stop.release()
+    held = StopSignals(holding=True)
+    held.handle(signal.SIGINT)
+    held.handle(signal.SIGTERM)
+    assert held.held == signal.SIGINT
+    with pytest.raises(Interrupted, match="SIGINT"):
+        held.release()
+    StopSignals(holding=True).release()  # nothing held: nothing raised
+
+
 def test_an_early_error_leaves_no_empty_output_folder(tmp_path, capsys):
     out = tmp_path / "deep" / "new"
     code = main(["run", "kwear-validation", "--reps", "1", "--mode", "hrc", "--jobs", "1", "--quiet",

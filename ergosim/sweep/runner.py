@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
+import signal
 import sys
 import time
 from collections.abc import Mapping, Sequence
@@ -132,8 +133,10 @@ def run_sweep(sweep, out: str | Path, *, executor: str = "local", jobs: int | No
                 ex.stop(cancel=True)
             raise
         status, reason, ran, plots, complete = "failed", "", 0, [], set()
-        try:
-            with interrupt_on_signals():
+        # a signal while the results are consolidated is held until sweep.json is written, and the sweep
+        # is then "interrupted": an exit by a signal never leaves a manifest saying "running"
+        with interrupt_on_signals() as stop:
+            try:
                 if ex is not None:
                     with ex:
                         described = ex.describe()
@@ -156,16 +159,25 @@ def run_sweep(sweep, out: str | Path, *, executor: str = "local", jobs: int | No
                                     last = time.monotonic()
                         finally:
                             bar.close()
-            status = "incomplete" if _not_complete(docs) else "complete"
-        except BaseException as err:
-            status, reason = stop_reason(err)
-            raise
-        finally:
-            with interrupt_on_signals():  # a second Ctrl-C while writing still leaves whole files
+                stop.holding = True
+                status = "incomplete" if _not_complete(docs) else "complete"
+            except BaseException as err:
+                stop.holding = True
+                status, reason = stop_reason(err)
+                raise
+            finally:
                 ended = status in ("complete", "incomplete")
                 complete, plots = _consolidate(sweep, folder, units, docs, plots=ended)
-                folder.write_manifest(_manifest(sweep, status, reason, units, docs, skipped, ran, complete,
-                                                described, time.monotonic() - start, plots))
+                while True:
+                    if stop.held is not None and status in ("complete", "incomplete"):
+                        status, reason = "interrupted", (f"stopped by {signal.Signals(stop.held).name} while "
+                                                         "the results were written")
+                    folder.write_manifest(_manifest(sweep, status, reason, units, docs, skipped, ran,
+                                                    complete, described, time.monotonic() - start, plots))
+                    if stop.held is None or status not in ("complete", "incomplete"):
+                        break
+            if status == "interrupted":
+                stop.release()  # the signal held while a finished sweep was written
     finally:
         folder.close()
     done = [docs[u.id] for u in units if u.id in docs]

@@ -161,8 +161,9 @@ class RunFolder:
             "config": self.config,
         })
 
-    def finish(self, status: str, reason: str = "") -> None:
-        """Rewrite the manifest with the final ``status`` and the files now in the folder of this run."""
+    def finish(self, status: str, reason: str = "", release: bool = True) -> None:
+        """Rewrite the manifest with the final ``status`` and the files now in the folder of this run, and
+        give the lock back (``release=False``: keep it, the status may be written again)."""
         if status not in RUN_STATUSES:
             raise ValueError(f"unknown run status {status!r}")
         files = [e.name for e in self.path.iterdir()
@@ -170,7 +171,8 @@ class RunFolder:
         try:
             self._write(status, files, reason)
         finally:
-            self.release()
+            if release:
+                self.release()
 
     def discard(self) -> None:
         """Undo :meth:`claim` when the run failed before it wrote any result: remove the manifest and the

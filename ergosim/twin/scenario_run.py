@@ -14,6 +14,7 @@ import concurrent.futures as cf
 import dataclasses
 import multiprocessing
 import os
+import signal
 import time
 from collections.abc import Mapping
 from pathlib import Path
@@ -78,18 +79,23 @@ def run_config(cfg: ScenarioConfig, overrides: Mapping[str, str] | None) -> dict
 def _write(out: Path, name: str, seed: int, cfg: ScenarioConfig, results: list[SubjectResult],
            complete: bool, final: bool, status: str = "running", plot_subjects=None,
            subjects: range | None = None, overrides: Mapping[str, str] | None = None) -> dict:
+    team = _write_results(out, name, seed, cfg, results, final, plot_subjects, subjects, overrides)
+    return _write_summary(out, name, seed, cfg, results, complete, status, subjects, overrides, team)
+
+
+def _write_results(out: Path, name: str, seed: int, cfg: ScenarioConfig, results: list[SubjectResult],
+                   final: bool, plot_subjects=None, subjects: range | None = None,
+                   overrides: Mapping[str, str] | None = None) -> dict | None:
+    """Every output but summary.json; returns team.json's document (None when the run has no team)."""
     results = sorted(results, key=lambda r: r.subject)
     # computed from the subject records (subject_records.json), as `ergosim merge` does for shards
-    records = [SubjectRecord.of(r) for r in results]
-    span = (subjects.start, subjects.stop) if subjects is not None else (0, cfg.subjects)
-    config = run_config(cfg, overrides)
-    summary = summary_of(name, seed, config, records, subject_range=span, complete=complete, status=status)
-    write_record_files(out, name, seed, config, records, subject_range=span)
+    write_record_files(out, name, seed, run_config(cfg, overrides), [SubjectRecord.of(r) for r in results],
+                       subject_range=_span(cfg, subjects))
     modes = {m: [r.runs[m] for r in results if m in r.runs] for m in cfg.modes}
+    team = None
     if team_in_summary(cfg, modes):  # a team setting is not the paper's: team.json, and in summary.json
         team = team_document(cfg, modes)
         write_json(out / "team.json", team)
-        summary["team"] = team
     if final:
         write_ticks(out / "ticks.csv", [run for r in results for run in r.runs.values()])
         _write_states(out, name, seed, cfg, results)
@@ -98,8 +104,84 @@ def _write(out: Path, name: str, seed: int, cfg: ScenarioConfig, results: list[S
         write_action_traces(out / "kwear_actions.csv", [(r.subject, a, t, v) for r in results
                                                         for a, (t, v) in sorted(r.traces.items())])
         write_plots(out, subjects=plot_subjects)
+    return team
+
+
+def _write_summary(out: Path, name: str, seed: int, cfg: ScenarioConfig, results: list[SubjectResult],
+                   complete: bool, status: str, subjects: range | None, overrides: Mapping[str, str] | None,
+                   team: dict | None) -> dict:
+    """summary.json, written last: the file that says whether the others are the whole run."""
+    records = [SubjectRecord.of(r) for r in sorted(results, key=lambda r: r.subject)]
+    summary = summary_of(name, seed, run_config(cfg, overrides), records, subject_range=_span(cfg, subjects),
+                         complete=complete, status=status)
+    if team is not None:
+        summary["team"] = team
     write_summary(out / "summary.json", summary)
     return summary
+
+
+def _span(cfg: ScenarioConfig, subjects: range | None) -> tuple[int, int]:
+    return (subjects.start, subjects.stop) if subjects is not None else (0, cfg.subjects)
+
+
+def _finish(folder: RunFolder, stop, out: Path, name: str, seed: int, cfg: ScenarioConfig,
+            results: list[SubjectResult], status: str, reason: str, plot_subjects, subjects: range,
+            overrides: Mapping[str, str] | None) -> tuple[dict, str]:
+    """The final write, with the signals held (``stop``): every file, then summary.json and run.json with
+    the run's status. A signal held meanwhile makes a run that had ended ``interrupted``; if it came while
+    those two were written, both are written again. Returns the summary and the status."""
+    if not results and status != "interrupted":
+        folder.discard()  # an early error leaves no empty output folder behind
+        return {}, status
+    team = _write_results(out, name, seed, cfg, results, True, plot_subjects, subjects, overrides)
+    while True:
+        if stop.held is not None and status in ("complete", "abandoned"):
+            status, reason = "interrupted", f"stopped by {signal.Signals(stop.held).name} while the " \
+                                            "results were written"
+        summary = _write_summary(out, name, seed, cfg, results, status == "complete", status, subjects,
+                                 overrides, team)
+        if summary["status"] == "abandoned":
+            status = "abandoned"
+            reason = f"{summary['repetitions_abandoned']} repetition(s) abandoned"
+        folder.finish(status, reason, release=False)
+        if stop.held is None or status not in ("complete", "abandoned"):
+            break
+    folder.release()
+    return summary, status
+
+
+def _run_subjects(scenario: Scenario, seed: int, out: Path, jobs: int, subjects: range,
+                  kept: set[tuple[int, str]], results: list[SubjectResult], bar: Progress) -> None:
+    """Run ``subjects`` in ``jobs`` processes; each result is appended to ``results`` and the running
+    outputs are rewritten as it arrives."""
+    name, cfg = scenario.name, scenario.protocol
+    args = [(scenario, i, seed, tuple(cfg.modes), tuple(sorted(m for s, m in kept if s == i)),
+             extension_modules()) for i in subjects]
+
+    def arrived(result: SubjectResult) -> None:
+        results.append(result)
+        _write(out, name, seed, cfg, results, complete=False, final=False, subjects=subjects,
+               overrides=scenario.overrides)
+        bar.advance()
+
+    if jobs == 1:
+        for a in args:
+            arrived(_job(a))
+        return
+    check_main_guard(where="jobs")
+    ctx = multiprocessing.get_context("spawn")
+    pool = None
+    try:
+        with signals_ignored():  # the workers start here and inherit SIG_IGN
+            pool = cf.ProcessPoolExecutor(max_workers=jobs, mp_context=ctx, initializer=quiet_worker)
+            futures = [pool.submit(_job, a) for a in args]
+        for fut in cf.as_completed(futures):
+            arrived(fut.result())
+    except BaseException:
+        if pool is not None:
+            stop_pool(pool)
+        raise
+    pool.shutdown()
 
 
 def _write_states(out: Path, name: str, seed: int, cfg: ScenarioConfig, results: list[SubjectResult]) -> None:
@@ -131,73 +213,45 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
     subjects the timelines and the per-action figure show (default: every subject). ``subjects``: run only
     these subjects of the population (a shard, ``ergosim run --subject-range``; default all), each seeded
     as in the whole run. SIGINT and SIGTERM stop the run the same way: the finished subjects are written,
-    then
-    :class:`~ergosim.twin.interrupt.Interrupted` propagates.
+    then :class:`~ergosim.twin.interrupt.Interrupted` propagates. A signal that comes while the results
+    are written is held until they are whole; the run is then ``interrupted`` too, and says so.
     """
     name, cfg = scenario.name, scenario.protocol
     out = Path(out)
     recording = recorder is not None and recorder.enabled
     record_mode = (record_mode or cfg.modes[0]) if recording else None
     folder = RunFolder(out, scenario=name, seed=seed)
-    folder.claim(run_config(cfg, scenario.overrides))
     subjects = subjects if subjects is not None else range(cfg.subjects)
     jobs = max(1, min(jobs or os.cpu_count() or 1, len(subjects)))
     kept = {(record_subject, record_mode)} if record_mode is not None else set()
     if video is not None:
         video = dataclasses.replace(video, mode=video.mode or cfg.modes[0])
         kept.add((video.subject, video.mode))
-    args = [(scenario, i, seed, tuple(cfg.modes), tuple(sorted(m for s, m in kept if s == i)),
-             extension_modules()) for i in subjects]
-    bar = Progress(len(subjects), f"{name}: subjects", enabled=progress)
     results: list[SubjectResult] = []
     start = time.monotonic()
     status, reason = "failed", ""
-    try:
-        with interrupt_on_signals():
-            if jobs == 1:
-                for a in args:
-                    results.append(_job(a))
-                    _write(out, name, seed, cfg, results, complete=False, final=False, subjects=subjects,
-                           overrides=scenario.overrides)
-                    bar.advance()
-            else:
-                check_main_guard(where="jobs")
-                ctx = multiprocessing.get_context("spawn")
-                with signals_ignored():
-                    pool = cf.ProcessPoolExecutor(max_workers=jobs, mp_context=ctx, initializer=quiet_worker)
-                    futures = [pool.submit(_job, a) for a in args]
-                try:
-                    for fut in cf.as_completed(futures):
-                        results.append(fut.result())
-                        _write(out, name, seed, cfg, results, complete=False, final=False,
-                               subjects=subjects, overrides=scenario.overrides)
-                        bar.advance()
-                except BaseException:
-                    stop_pool(pool)
-                    raise
-                pool.shutdown()
-        status = "complete"
-    except BaseException as err:
-        status, reason = stop_reason(err)
-        raise
-    finally:
-        bar.close()
-        with interrupt_on_signals():  # a second Ctrl-C while writing still leaves whole files
-            if results:
-                summary = _write(out, name, seed, cfg, results, complete=status == "complete", final=True,
-                                 status=status, plot_subjects=plot_subjects, subjects=subjects,
-                                 overrides=scenario.overrides)
-                if summary["status"] == "abandoned":
-                    status = "abandoned"
-                    reason = f"{summary['repetitions_abandoned']} repetition(s) abandoned"
-                folder.finish(status, reason)
-            elif status == "interrupted":
-                summary = _write(out, name, seed, cfg, results, complete=False, final=True, status=status,
-                                 subjects=subjects, overrides=scenario.overrides)
-                folder.finish(status, reason)
-            else:
-                summary = {}
-                folder.discard()  # an early error leaves no empty output folder behind
+    # signals are held while the folder is claimed and while the results are written: an exit by a signal
+    # always leaves outputs that say "interrupted" (ergosim.twin.interrupt)
+    with interrupt_on_signals(holding=True) as stop:
+        folder.claim(run_config(cfg, scenario.overrides))
+        bar = None
+        try:
+            stop.release()  # a signal during the claim stops the run here, with the folder ours
+            bar = Progress(len(subjects), f"{name}: subjects", enabled=progress)
+            _run_subjects(scenario, seed, out, jobs, subjects, kept, results, bar)
+            stop.holding = True  # from here a signal waits until the results are written
+            status = "complete"
+        except BaseException as err:
+            stop.holding = True
+            status, reason = stop_reason(err)
+            raise
+        finally:
+            if bar is not None:
+                bar.close()
+            summary, status = _finish(folder, stop, out, name, seed, cfg, results, status, reason,
+                                      plot_subjects, subjects, scenario.overrides)
+        if status == "interrupted":
+            stop.release()  # a signal held while a whole run was written (its outputs say interrupted)
     results.sort(key=lambda r: r.subject)
     chosen = [r for r in results if r.subject == record_subject]
     if record_mode is not None and chosen:
