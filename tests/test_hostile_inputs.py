@@ -710,8 +710,9 @@ def test_two_concurrent_processes_into_one_folder(tmp_path):
     (["--set", "takt=1e308"], "takt must be in (0, 3600] s"),  # an OverflowError at HEAD
     (["--set", "ee_speed=1e-6"], "ee_speed must be in [0.001, 1.7] m/s"),
     (["--set", "transit_speed=1e-6"], "transit_speed must be in [0.001, 1.7] m/s"),
-    (["--subjects", "1000000"], "subjects must be in 1..10000, got 1000000"),
-    (["--set", "repetitions=100000000000000000000"], "repetitions × takt must be at most 86400 s"),
+    (["--subjects", "1000000"], "--subjects: subjects must be in 1..10000, got 1000000"),
+    (["--set", "repetitions=100000000000000000000"], "--set: repetitions × takt must be at most 86400 s"),
+    (["--reps", "100000000000000000000"], "--reps: repetitions × takt must be at most 86400 s"),
     (["--set", "w_time=1e308"], "--set: w_time must be in [0, 1e+06]"),  # named costs: at HEAD
 ])
 def test_values_beyond_what_the_simulation_can_hold_are_refused(capsys, tmp_path, args, needle):
