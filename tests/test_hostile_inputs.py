@@ -779,7 +779,23 @@ def test_ray_pointed_at_nothing_is_refused_without_a_running_manifest(tmp_path):
     assert proc.returncode == 2 and "Traceback" not in proc.stderr and proc.stderr.count("\n") == 1
     said = "--ray-address: cannot connect to the Ray cluster at 127.0.0.1:1: connection refused"
     assert said in proc.stderr
-    assert not (out / "sweep.json").exists()  # nothing says "running"
+    assert not out.exists()  # nothing says "running", and no empty folder is left behind
+
+
+def test_a_sweep_refused_before_its_manifest_leaves_what_was_there(tmp_path):
+    from ergosim.sweep.folder import SweepFolder  # noqa: PLC0415
+
+    fresh = SweepFolder(tmp_path / "a" / "b")
+    fresh.claim()
+    fresh.discard()
+    assert not (tmp_path / "a").exists()
+    resumed = tmp_path / "old"
+    (resumed / "units").mkdir(parents=True)
+    (resumed / "units" / "u0.json").write_text("{}")
+    folder = SweepFolder(resumed)
+    folder.claim()
+    folder.discard()
+    assert (resumed / "units" / "u0.json").read_text() == "{}"
 
 
 # -- tracebacks that are one line now ------------------------------------------------------------------------

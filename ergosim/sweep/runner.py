@@ -107,6 +107,7 @@ def run_sweep(sweep, out: str | Path, *, executor: str = "local", jobs: int | No
     folder = SweepFolder(out)
     folder.claim()
     start = time.monotonic()
+    manifest = False  # written: from then on the folder is the sweep's, whatever happens
     try:
         units = plan_units(sweep)
         docs = folder.finished(u.id for u in units)
@@ -128,6 +129,7 @@ def run_sweep(sweep, out: str | Path, *, executor: str = "local", jobs: int | No
                 folder.write_sweep_file(sweep_text)
             folder.write_manifest(_manifest(sweep, "running", "", units, docs, skipped, 0, set(), described,
                                             0.0, []))
+            manifest = True
         except BaseException:
             if ex is not None:
                 ex.stop(cancel=True)
@@ -179,7 +181,10 @@ def run_sweep(sweep, out: str | Path, *, executor: str = "local", jobs: int | No
             if status == "interrupted":
                 stop.release()  # the signal held while a finished sweep was written
     finally:
-        folder.close()
+        if manifest:
+            folder.close()
+        else:
+            folder.discard()
     done = [docs[u.id] for u in units if u.id in docs]
     return SweepResult(out=Path(out), status=status, units=len(units), finished=len(done), skipped=skipped,
                        ran=ran, failed=sum(d["status"] == "failed" for d in done),
