@@ -486,6 +486,25 @@ def test_a_signal_while_a_finished_sweep_is_written_leaves_it_interrupted(tmp_pa
     assert "while the results were written" in manifest["reason"]
 
 
+def test_a_disk_that_fills_while_the_results_are_written_is_one_line(tmp_path, capsys, monkeypatch):
+    """ticks.csv cannot be written (ENOSPC): one line, exit 2, and run.json and summary.json say failed
+    (a traceback at HEAD, with both saying "running")."""
+    import errno  # noqa: PLC0415
+
+    from ergosim.twin import scenario_run  # noqa: PLC0415
+
+    def full(*_args, **_kwargs):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    monkeypatch.setattr(scenario_run, "write_ticks", full)
+    out = tmp_path / "o"
+    code = main([*KV, "--subjects", "1", "--out", str(out)])
+    _one_line_error(capsys, code, f"--out: cannot write the results into {out}: No space left on device")
+    assert json.loads((out / "summary.json").read_text())["status"] == "failed"
+    run = json.loads((out / "run.json").read_text())
+    assert run["status"] == "failed" and "No space left on device" in run["reason"]
+
+
 _SIGNAL_IN_MUJOCO_CALLBACK = """
 import os, signal, sys
 import mujoco

@@ -11,6 +11,7 @@ run is interrupted (Ctrl-C or SIGTERM) or fails, everything finished so far is w
 from __future__ import annotations
 
 import concurrent.futures as cf
+import contextlib
 import dataclasses
 import multiprocessing
 import os
@@ -20,6 +21,7 @@ from collections.abc import Mapping
 from pathlib import Path
 
 from ergosim.atomic import write_json
+from ergosim.errors import ConfigError
 from ergosim.plugins import extension_modules, import_extensions
 from ergosim.twin.interrupt import (
     interrupt_on_signals,
@@ -133,7 +135,16 @@ def _finish(folder: RunFolder, stop, out: Path, name: str, seed: int, cfg: Scena
     if not results and status != "interrupted":
         folder.discard()  # an early error leaves no empty output folder behind
         return {}, status
-    team = _write_results(out, name, seed, cfg, results, True, plot_subjects, subjects, overrides)
+    try:
+        team = _write_results(out, name, seed, cfg, results, True, plot_subjects, subjects, overrides)
+    except OSError as err:  # a full disk, a folder made read-only meanwhile: one line, and run.json says so
+        why = err.strerror or str(err)
+        with contextlib.suppress(OSError):
+            _write_summary(out, name, seed, cfg, results, False, "failed", subjects, overrides, None)
+        with contextlib.suppress(OSError):
+            folder.finish("failed", f"the results could not be written: {why}")
+        folder.release()
+        raise ConfigError(f"cannot write the results into {out}: {why}", where="--out") from None
     while True:
         if stop.held is not None and status in ("complete", "abandoned"):
             status, reason = "interrupted", f"stopped by {signal.Signals(stop.held).name} while the " \
