@@ -3,7 +3,7 @@
 MuJoCo calls a Python function when it warns (``mujoco.set_mju_user_warning``, which
 :mod:`ergosim.scenes.build` uses while it attaches the robot and the human). Python runs a signal's handler
 in whatever Python code runs next, and that can be the callback: a handler that raises there (Ctrl-C's
-KeyboardInterrupt, SIGTERM's :class:`~ergosim.twin.interrupt.Interrupted`) throws through MuJoCo's C++
+KeyboardInterrupt, SIGTERM's :class:`~ergosim.experiment.interrupt.Interrupted`) throws through MuJoCo's C++
 frames and the process aborts with "libc++abi: terminating", writing nothing. Inside
 :func:`signals_held` the handler only notes the signal; the handler that was there gets it once the C code
 has returned.

@@ -21,13 +21,13 @@ import pytest
 
 from ergosim.cli import main
 from ergosim.errors import ConfigError, InfeasiblePlanError, TaskFileError
+from ergosim.experiment.run_folder import RunFolder
+from ergosim.experiment.scenario import load_scenario
 from ergosim.machine import physical_memory
 from ergosim.planner import Agent, AndOrGraph, Operation, generate_task, limits, load_task
 from ergosim.planner.taskfile import parse_task
 from ergosim.scenes import build_cell
-from ergosim.twin.run_folder import RunFolder
-from ergosim.twin.scenario import ScenarioConfig, run_memory
-from ergosim.twin.scenariofile import load_scenario
+from ergosim.twin.protocol import ScenarioConfig, run_memory
 from ergosim.viz import recorder, sinks
 from ergosim.worker.bvh_parse import parse_bvh_text
 
@@ -140,9 +140,9 @@ FAR_ROBOT = ["--set", "scene.robot_base=0.94,-0.5,0.9", "--set", "scene.robots.r
 def test_failed_robot_attempts_do_not_count_as_robot_actions(tmp_path):
     """The same cell run from Python, past the CLI's pre-check: r-only sends the robot every action it may
     do, each attempt fails as unreachable in the physics, and the robot share stays 0."""
-    from ergosim.twin.scenario_run import run_scenario  # noqa: PLC0415
-    from ergosim.twin.scenariofile import load_scenario  # noqa: PLC0415
-    from ergosim.twin.summary_text import summary_text  # noqa: PLC0415
+    from ergosim.experiment.scenario import load_scenario  # noqa: PLC0415
+    from ergosim.experiment.scenario_run import run_scenario  # noqa: PLC0415
+    from ergosim.experiment.summary_text import summary_text  # noqa: PLC0415
 
     scenario = load_scenario("multi-subject", {"subjects": "1", "repetitions": "1", "modes": "r-only",
                                                "scene.robot_base": "0.94,-0.5,0.9",
@@ -381,12 +381,12 @@ def test_ee_speed_is_bounded_by_the_panda(capsys, tmp_path):
     code = main(["run", "kwear-validation", "--quiet", "--out", str(tmp_path / "n"),
                  "--set", "ee_speed=100"])
     _one_line_error(capsys, code, "ee_speed must be in [0.001, 1.7] m/s")
+    from ergosim.experiment.scenario import scenario_config  # noqa: PLC0415
     from ergosim.overrides import apply_overrides  # noqa: PLC0415
-    from ergosim.twin.scenariofile import scenario_config  # noqa: PLC0415
 
     # the bound itself is allowed; contact-critical motion may not outrun the transits (transit_speed)
     fast = apply_overrides(scenario_config("kwear-validation"), {"ee_speed": "1.7", "transit_speed": "1.7"})
-    assert (fast.ee_speed, fast.transit_speed) == (1.7, 1.7)
+    assert (fast.robot.ee_speed, fast.robot.transit_speed) == (1.7, 1.7)
 
 
 # -- 11. interruption ------------------------------------------------------------------------------------
@@ -464,9 +464,9 @@ def _signal_during(monkeypatch, module, name: str, signum: int) -> None:
 def test_a_signal_while_a_finished_run_is_written_leaves_it_interrupted(tmp_path, capsys, monkeypatch):
     """Ctrl-C while the plots of a run whose subjects all finished are drawn: the files are written whole,
     summary.json and run.json say interrupted (the CLI exits 130), not "running"."""
-    from ergosim.twin import scenario_run  # noqa: PLC0415
+    from ergosim.experiment import outputs  # noqa: PLC0415
 
-    _signal_during(monkeypatch, scenario_run, "write_plots", signal.SIGINT)
+    _signal_during(monkeypatch, outputs, "write_plots", signal.SIGINT)
     out = tmp_path / "o"
     code = main([*KV, "--subjects", "1", "--out", str(out)])
     assert code == 130
@@ -500,12 +500,12 @@ def test_a_disk_that_fills_while_the_results_are_written_is_one_line(tmp_path, c
     (a traceback at HEAD, with both saying "running")."""
     import errno  # noqa: PLC0415
 
-    from ergosim.twin import scenario_run  # noqa: PLC0415
+    from ergosim.experiment import outputs  # noqa: PLC0415
 
     def full(*_args, **_kwargs):
         raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
 
-    monkeypatch.setattr(scenario_run, "write_ticks", full)
+    monkeypatch.setattr(outputs, "write_ticks", full)
     out = tmp_path / "o"
     code = main([*KV, "--subjects", "1", "--out", str(out)])
     _one_line_error(capsys, code, f"--out: cannot write the results into {out}: No space left on device")
@@ -518,8 +518,8 @@ _SIGNAL_IN_MUJOCO_CALLBACK = """
 import os, signal, sys
 import mujoco
 from ergosim.scenes import build_cell
-from ergosim.twin.interrupt import Interrupted, interrupt_on_signals
-from ergosim.twin.scenariofile import load_scenario
+from ergosim.experiment.interrupt import Interrupted, interrupt_on_signals
+from ergosim.experiment.scenario import load_scenario
 
 spec = load_scenario("kwear-validation").cell()
 set_warning = mujoco.set_mju_user_warning
@@ -557,7 +557,7 @@ def test_a_signal_inside_mujocos_warning_callback_stops_the_build_instead_of_abo
 
 
 def test_stop_signals_raise_once_and_hold_the_rest():
-    from ergosim.twin.interrupt import Interrupted, StopSignals  # noqa: PLC0415
+    from ergosim.experiment.interrupt import Interrupted, StopSignals  # noqa: PLC0415
 
     stop = StopSignals()
     with pytest.raises(Interrupted):
@@ -749,8 +749,8 @@ def test_values_beyond_what_the_simulation_can_hold_are_refused(capsys, tmp_path
 
 def test_a_run_too_big_for_memory_is_refused_from_its_values(capsys, tmp_path):
     # 10 000 subjects × 2 modes × a day of records: more than half of any machine this runs on
-    cfg = ScenarioConfig(scene="x", task="x", subjects=10_000, repetitions=2000, modes=("hrc", "h-only"),
-                         robot_cost=1.0, takt=43.2)
+    cfg = ScenarioConfig.of("x", "x", subjects=10_000, repetitions=2000, modes=("hrc", "h-only"),
+                            robot_cost=1.0, takt=43.2)
     assert run_memory(cfg) > physical_memory() / 2
     _refused_before_anything(capsys, tmp_path, ["run", "multi-subject", "--quiet", "--subjects", "10000",
                                                 "--reps", "2000", "--set", "takt=43.2"],

@@ -9,9 +9,9 @@ import pytest
 
 from ergosim import api
 from ergosim.cli import main
+from ergosim.experiment.scenario import load_scenario
+from ergosim.experiment.scenario_check import _action_states, _Start, precheck
 from ergosim.scenes import build_cell
-from ergosim.twin.scenario_check import _action_states, _Start, precheck
-from ergosim.twin.scenariofile import load_scenario
 
 # the housing starts at the bench's near corner, out of the robot's reach; the worker puts it into the
 # fixture (g1), where the robot, alone allowed g2, presses the bushing in

@@ -471,7 +471,7 @@ class _Carry(Skill):
     def plan_error(self) -> str | None:
         """Why this skill cannot be planned from the scene as it is now (where no IK solution exists, in the
         world frame: reaching, on the carry or on the way out), or None; nothing moves. The check before
-        any physics (:func:`ergosim.twin.scenario_check.check_reachability`) asks this."""
+        any physics (:func:`ergosim.experiment.scenario_check.check_reachability`) asks this."""
         self.zone = self.contact_zone()
         try:
             self._plan_carry(*self._arrival_plan())

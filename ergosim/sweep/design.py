@@ -53,9 +53,23 @@ from typing import Any
 import numpy as np
 
 from ergosim.errors import ConfigError, ErgosimError
-from ergosim.scenes.cellfile import MAX_FILE_BYTES, read_toml
-from ergosim.sweep.metrics import DEFAULT_METRICS, check_metric
-from ergosim.twin.scenariofile import Scenario, load_scenario, scenario_names
+from ergosim.experiment.scenario import Scenario, load_scenario
+from ergosim.scenes.cellfile import read_toml
+from ergosim.sweep.file_values import (
+    MAX_UNITS,
+    check_key,
+    flat_keys,
+    read_metrics,
+    read_modes,
+    read_seeds,
+    read_string,
+    read_subjects,
+    read_table,
+    scenario_reference,
+    set_string,
+    typed_value,
+)
+from ergosim.sweep.metrics import DEFAULT_METRICS
 
 __all__ = ["Axis", "Factor", "Cell", "Sampling", "Sweep", "load_sweep", "parse_sweep", "set_string",
            "MAX_CELLS",
@@ -63,17 +77,12 @@ __all__ = ["Axis", "Factor", "Cell", "Sampling", "Sweep", "load_sweep", "parse_s
 
 MAX_CELLS = 10_000
 """Largest number of cells in a sweep (assumed: a design larger than this is a typo in a range)."""
-MAX_UNITS = 500_000
-"""Largest number of work units (cells × subjects × seeds × modes); each leaves one small file."""
 SAMPLE_METHODS = ("random", "lhs")
 
 _TOP = ("name", "description", "scenario", "subjects", "seeds", "modes", "metrics", "set", "grid", "zip",
         "sample")
 _SAMPLE_KEYS = ("method", "n", "seed")
 _ZIP_KEYS = ("name", "levels")
-_RESERVED = {"subjects": "the sweep's top-level 'subjects'", "protocol.subjects": "the sweep's 'subjects'",
-             "modes": "the sweep's top-level 'modes'", "protocol.modes": "the sweep's 'modes'",
-             "seed": "the sweep's top-level 'seeds'"}
 
 
 @dataclasses.dataclass(frozen=True)
@@ -180,13 +189,13 @@ def parse_sweep(doc: Mapping[str, Any], *, source: str = "<sweep>", base_dir: Pa
         raise ConfigError(f"unknown key {unknown[0]!r}; valid keys: {', '.join(_TOP)}", where=source)
     if "scenario" not in doc:
         raise ConfigError("missing key 'scenario' (a bundled scenario or a scenario file)", where=source)
-    name = _string(doc.get("name", default_name), at("name"))
-    description = _string(doc.get("description", "-"), at("description"))
-    scenario_ref = _scenario_ref(doc["scenario"], base_dir, at("scenario"))
-    fixed_doc = _flat(_table(doc, "set", source), at("set"))
+    name = read_string(doc.get("name", default_name), at("name"))
+    description = read_string(doc.get("description", "-"), at("description"))
+    scenario_ref = scenario_reference(doc["scenario"], base_dir, at("scenario"))
+    fixed_doc = flat_keys(read_table(doc, "set", source), at("set"))
     fixed = {k: set_string(v, at(f"set.{k}")) for k, v in fixed_doc.items()}
     for key in fixed:
-        _check_key(key, at(f"set.{key}"))
+        check_key(key, at(f"set.{key}"))
     axes, blocks = _axes(doc, source)
     for key in fixed:
         if key in {a.key for a in axes}:
@@ -194,19 +203,19 @@ def parse_sweep(doc: Mapping[str, Any], *, source: str = "<sweep>", base_dir: Pa
                               where=at(f"set.{key}"))
     factors = _factors(blocks, source)
     _check_size(blocks, source)
-    subjects = _subjects(doc.get("subjects", 1), at("subjects"))
-    seeds = _seeds(doc.get("seeds", 0), at("seeds"))
+    subjects = read_subjects(doc.get("subjects", 1), at("subjects"))
+    seeds = read_seeds(doc.get("seeds", 0), at("seeds"))
     try:
         base = load_scenario(scenario_ref, fixed)
     except ErgosimError as err:
         raise ConfigError(f"scenario {scenario_ref!r} with [set]: {err}",
                           where=at("set" if fixed else "scenario")) from None
     base_modes = tuple(base.protocol.modes)
-    modes = _modes(doc.get("modes", list(base_modes)), at("modes"))
+    modes = read_modes(doc.get("modes", list(base_modes)), at("modes"))
     extra = [m for m in modes if m not in base_modes]
     slots = {m: base_modes.index(m) if m in base_modes else len(base_modes) + extra.index(m) for m in modes}
     actions = tuple(base.task().actions)
-    metrics = _metrics(doc.get("metrics", list(DEFAULT_METRICS)), actions, at("metrics"))
+    metrics = read_metrics(doc.get("metrics", list(DEFAULT_METRICS)), actions, at("metrics"))
     points, seen = [], set()
     for p, levels in _product(blocks, factors):  # coinciding sample points (integer ranges): one cell
         key = json.dumps(p, sort_keys=True)
@@ -241,160 +250,6 @@ def parse_sweep(doc: Mapping[str, Any], *, source: str = "<sweep>", base_dir: Pa
                  actions=actions, slots=slots, sampling=sampling, base=base, scenarios=tuple(scenarios))
 
 
-# -- values ----------------------------------------------------------------------------------------------
-def set_string(value: Any, where: str) -> str:
-    """A TOML value as the ``--set`` string ``ergosim run`` would take: numbers, booleans, strings,
-    vectors (``[0.2, 0.8]`` -> ``0.2,0.8``) and name:value pairs (``[["upper_arm", 1.1]]``)."""
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, int | float):
-        return _number(value, where)
-    if isinstance(value, str):
-        return value
-    if isinstance(value, list | tuple) and value:
-        if all(isinstance(v, list | tuple) and len(v) == 2 and isinstance(v[0], str) for v in value):
-            return ",".join(f"{n}:{_number(x, where)}" for n, x in value)
-        if all(isinstance(v, int | float) and not isinstance(v, bool) for v in value):
-            return ",".join(_number(v, where) for v in value)
-    raise ConfigError(f"expected a number, a boolean, a string or a list of numbers, got {value!r}",
-                      where=where)
-
-
-def _number(value: Any, where: str) -> str:
-    if isinstance(value, bool) or not isinstance(value, int | float):
-        raise ConfigError(f"expected a number, got {value!r}", where=where)
-    if isinstance(value, float) and not math.isfinite(value):
-        raise ConfigError(f"expected a finite number, got {value!r}", where=where)
-    return str(value) if isinstance(value, int) else repr(float(value))
-
-
-def _typed(value: Any) -> Any:
-    """A parameter value as stored: lists become tuples (vectors or name:value pairs)."""
-    if isinstance(value, list):
-        return tuple(tuple(v) if isinstance(v, list) else v for v in value)
-    return value
-
-
-def _string(value: Any, where: str) -> str:
-    if not isinstance(value, str) or not value.strip():
-        raise ConfigError(f"expected a non-empty string, got {value!r}", where=where)
-    return value
-
-
-def _table(doc: Mapping[str, Any], key: str, source: str) -> dict[str, Any]:
-    table = doc.get(key, {})
-    if not isinstance(table, dict):
-        raise ConfigError(f"expected a table [{key}], got {table!r}", where=f"{source}: {key}")
-    return table
-
-
-def _flat(table: Mapping[str, Any], where: str, prefix: str = "") -> dict[str, Any]:
-    """``{"scene": {"shelf_height": x}}`` (TOML's dotted keys) -> ``{"scene.shelf_height": x}``."""
-    out: dict[str, Any] = {}
-    for key, value in table.items():
-        full = f"{prefix}{key}"
-        if isinstance(value, dict):
-            if not value:
-                raise ConfigError(f"{full!r} is an empty table; expected values", where=where)
-            out.update(_flat(value, where, prefix=f"{full}."))
-        else:
-            out[full] = value
-    return out
-
-
-def _check_key(key: str, where: str) -> None:
-    if key in _RESERVED:
-        raise ConfigError(f"{key!r} cannot be set per cell; use {_RESERVED[key]}", where=where)
-    if key in ("scene", "workcell", "task") or key.startswith("task."):
-        raise ConfigError(f"{key!r} is set by the scenario file, not by an override; use scene.<field>",
-                          where=where)
-
-
-def _scenario_ref(value: Any, base_dir: Path | None, where: str) -> str:
-    ref = _string(value, where)
-    if ref in scenario_names():
-        return ref
-    path = Path(ref)
-    if not path.is_absolute() and base_dir is not None:
-        path = base_dir / path
-    if not path.is_file():
-        raise ConfigError(f"no scenario {ref!r}: neither a bundled scenario ({', '.join(scenario_names())}) "
-                          f"nor a file", where=where)
-    if path.stat().st_size > MAX_FILE_BYTES:
-        raise ConfigError(f"larger than {MAX_FILE_BYTES // 1024 // 1024} MiB; not a scenario file",
-                          where=where)
-    return str(path)
-
-
-def _subjects(value: Any, where: str) -> tuple[int, ...]:
-    if isinstance(value, bool):
-        raise ConfigError(f"expected a count, 'A:B' or a list of subject indices, got {value!r}", where=where)
-    if isinstance(value, int):
-        if value < 1:
-            raise ConfigError(f"expected at least 1 subject, got {value}", where=where)
-        _at_most(value, "subjects", where)
-        return tuple(range(value))
-    if isinstance(value, str):
-        first, sep, end = value.partition(":")
-        try:
-            a, b = int(first), int(end)
-        except ValueError:
-            a = b = -1
-        if not sep or not 0 <= a < b:
-            raise ConfigError(f"expected 'A:B' with 0 <= A < B (subjects A..B-1), got {value!r}", where=where)
-        _at_most(b - a, "subjects", where)
-        return tuple(range(a, b))
-    return _indices(value, "subject index", where)
-
-
-def _at_most(count: int, what: str, where: str) -> None:
-    """A count of subjects or seeds cannot exceed the units a sweep may hold (checked before a list of
-    that length is made)."""
-    if count > MAX_UNITS:
-        raise ConfigError(f"{count} {what} are more units than the limit of {MAX_UNITS} (MAX_UNITS)",
-                          where=where)
-
-
-def _seeds(value: Any, where: str) -> tuple[int, ...]:
-    if isinstance(value, int) and not isinstance(value, bool):
-        value = [value]
-    return _indices(value, "seed", where)
-
-
-def _indices(value: Any, what: str, where: str) -> tuple[int, ...]:
-    if not isinstance(value, list) or not value:
-        raise ConfigError(f"expected a non-empty list of {what}s, got {value!r}", where=where)
-    _at_most(len(value), f"{what}s", where)
-    for v in value:
-        if isinstance(v, bool) or not isinstance(v, int) or v < 0:
-            raise ConfigError(f"expected {what}s as integers >= 0, got {v!r}", where=where)
-    dupes = sorted(v for v, k in collections.Counter(value).items() if k > 1)
-    if dupes:
-        raise ConfigError(f"{what} {dupes[0]} is listed twice", where=where)
-    return tuple(value)
-
-
-def _modes(value: Any, where: str) -> tuple[str, ...]:
-    from ergosim.twin.modes import mode_names  # noqa: PLC0415
-
-    if isinstance(value, str):
-        value = [value]
-    if not isinstance(value, list) or not value or not all(isinstance(m, str) for m in value):
-        raise ConfigError(f"expected a non-empty list of modes, got {value!r}", where=where)
-    for m in value:
-        if m not in mode_names():
-            raise ConfigError(f"unknown mode {m!r}; valid modes: {', '.join(mode_names())}", where=where)
-    if len(set(value)) != len(value):
-        raise ConfigError(f"a mode is listed twice: {value}", where=where)
-    return tuple(value)
-
-
-def _metrics(value: Any, actions: Sequence[str], where: str) -> tuple[str, ...]:
-    if not isinstance(value, list) or not value or not all(isinstance(m, str) for m in value):
-        raise ConfigError(f"expected a non-empty list of metric names, got {value!r}", where=where)
-    return tuple(dict.fromkeys(check_metric(m, actions, where) for m in value))
-
-
 # -- the design ------------------------------------------------------------------------------------------
 def _axes(doc: Mapping[str, Any], source: str) -> tuple[tuple[Axis, ...], list]:
     """The axes and the blocks ``(kind, [(key, values)...], sampling)`` in product order."""
@@ -403,7 +258,7 @@ def _axes(doc: Mapping[str, Any], source: str) -> tuple[tuple[Axis, ...], list]:
 
     def claim(key: str, block: str) -> None:
         where = f"{source}: {block}.{key}"
-        _check_key(key, where)
+        check_key(key, where)
         if key in seen:
             raise ConfigError(f"{key!r} is an axis in both [{seen[key]}] and [{block}]; give it once",
                               where=where)
@@ -412,15 +267,15 @@ def _axes(doc: Mapping[str, Any], source: str) -> tuple[tuple[Axis, ...], list]:
     def listed(block: str, table: Mapping[str, Any]) -> list[tuple[str, list[Any]]]:
         """The (key, values) of a [grid] or [zip] table, each key claimed."""
         entries = []
-        for key, values in _flat(table, f"{source}: {block}").items():
+        for key, values in flat_keys(table, f"{source}: {block}").items():
             claim(key, block)
             entries.append((key, _values(values, f"{source}: {block}.{key}")))
         return entries
 
-    entries = listed("grid", _table(doc, "grid", source))
+    entries = listed("grid", read_table(doc, "grid", source))
     if entries:
         blocks.append(("grid", entries, None))
-    table = dict(_table(doc, "zip", source))
+    table = dict(read_table(doc, "zip", source))
     named = {k: table.pop(k) for k in _ZIP_KEYS if k in table}
     entries = listed("zip", table)
     if named and not entries:
@@ -433,13 +288,13 @@ def _axes(doc: Mapping[str, Any], source: str) -> tuple[tuple[Axis, ...], list]:
             raise ConfigError(f"the lists of a zip must have one length; got {counts}",
                               where=f"{source}: zip")
         blocks.append(("zip", entries, _zip_names(named, entries, source)))
-    sample = _table(doc, "sample", source)
+    sample = read_table(doc, "sample", source)
     if sample:
         blocks.append(_sample(sample, source, claim))
     axes = []
     for kind, entries, _ in blocks:
         for key, values in entries:
-            axes.append(Axis(key, kind, tuple(dict.fromkeys(_typed(v) for v in values))))
+            axes.append(Axis(key, kind, tuple(dict.fromkeys(typed_value(v) for v in values))))
     return tuple(axes), blocks
 
 
@@ -451,7 +306,7 @@ def _values(values: Any, where: str) -> list[Any]:
                           where=where)
     for v in values:
         set_string(v, where)
-    typed = [_typed(v) for v in values]
+    typed = [typed_value(v) for v in values]
     dupes = [v for v, k in collections.Counter(typed).items() if k > 1]
     if dupes:
         raise ConfigError(f"value {dupes[0]!r} is listed twice", where=where)
@@ -477,7 +332,7 @@ def _sample(table: Mapping[str, Any], source: str, claim) -> tuple[str, list, Sa
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         raise ConfigError(f"expected seed as an integer >= 0 (the design is random), got {seed!r}",
                           where=f"{where}.seed")
-    ranges = _flat({k: v for k, v in table.items() if k not in _SAMPLE_KEYS}, where)
+    ranges = flat_keys({k: v for k, v in table.items() if k not in _SAMPLE_KEYS}, where)
     if not ranges:
         raise ConfigError("no ranges to sample; give KEY = [low, high]", where=where)
     bounds = []
@@ -609,7 +464,7 @@ def _product(blocks: list, factors: Sequence[Factor]) -> list[tuple[dict[str, An
         params: dict[str, Any] = {}
         levels: dict[str, str] = {}
         for part, named in combo:
-            params.update({k: _typed(v) for k, v in part.items()})
+            params.update({k: typed_value(v) for k, v in part.items()})
             levels.update(named)
         cells.append((params, levels))
     return cells or [({}, {})]

@@ -11,6 +11,7 @@ error and the sweep goes on.
 from __future__ import annotations
 
 import dataclasses
+import logging
 import os
 import signal
 import sys
@@ -21,15 +22,17 @@ from typing import Any
 
 from tqdm import tqdm
 
+from ergosim.experiment.interrupt import interrupt_on_signals, stop_reason
 from ergosim.sweep.executors import make_executor
 from ergosim.sweep.folder import SweepFolder
 from ergosim.sweep.plots import write_sweep_plots
 from ergosim.sweep.stats import cell_statistics
-from ergosim.sweep.tables import allocations_table, results_table, write_parquet
-from ergosim.sweep.units import Unit, plan_units
-from ergosim.twin.interrupt import interrupt_on_signals, stop_reason
+from ergosim.sweep.tables import results_table, unit_rows_table, write_parquet
+from ergosim.sweep.units import UNIT_OUTPUTS, Unit, plan_units
 
 __all__ = ["SweepResult", "run_sweep", "CONSOLIDATE_EVERY", "EXIT_INCOMPLETE"]
+
+log = logging.getLogger(__name__)
 
 CONSOLIDATE_EVERY = 60.0
 """Seconds between consolidations of results.parquet while the sweep runs."""
@@ -66,7 +69,8 @@ def _consolidate(sweep, folder: SweepFolder, units: Sequence[Unit], docs: Mappin
                  plots: bool) -> tuple[set[int], list[str]]:
     table = results_table(sweep, units, docs)
     write_parquet(folder.path / "results.parquet", table)
-    write_parquet(folder.path / "allocations.parquet", allocations_table(units, docs))
+    for o in UNIT_OUTPUTS:
+        write_parquet(folder.path / f"{o.name}.parquet", unit_rows_table(o, units, docs))
     complete = _complete_cells(units, docs)
     rows = table.to_pylist()
     write_parquet(folder.path / "cells.parquet", cell_statistics(sweep, rows, complete))
@@ -116,6 +120,8 @@ def run_sweep(sweep, out: str | Path, *, executor: str = "local", jobs: int | No
         skipped = len(docs)
         # a unit shared by two cells (the same resolved scenario) runs once
         todo = list({u.id: u for u in units if u.id not in docs}.values())
+        log.debug("%s: %d unit(s), %d finished in %s, %d to run", sweep.name, len(units), skipped, out,
+                  len(todo))
         # the executor first (a Ray cluster that cannot be reached is refused now), so a sweep that never
         # started leaves no manifest saying "running"
         ex = None
@@ -142,25 +148,7 @@ def run_sweep(sweep, out: str | Path, *, executor: str = "local", jobs: int | No
                 if ex is not None:
                     with ex:
                         described = ex.describe()
-                        bar = tqdm(total=len(units), initial=skipped, desc=sweep.name, unit="unit",
-                                   disable=not progress, file=sys.stderr, dynamic_ncols=True, smoothing=0.05,
-                                   mininterval=0.5 if sys.stderr.isatty() else 15.0)
-                        last = time.monotonic()
-                        try:
-                            tasks = ((sweep.scenarios[u.cell], u) for u in todo)
-                            for doc in ex.imap(tasks, sweep.actions):
-                                folder.write_unit(doc)
-                                docs[doc["id"]] = doc
-                                ran += 1
-                                bar.update(1)
-                                if doc["status"] != "complete":
-                                    bar.set_postfix_str(f"{_not_complete(docs)} failed or abandoned",
-                                                        refresh=False)
-                                if time.monotonic() - last > CONSOLIDATE_EVERY:
-                                    _consolidate(sweep, folder, units, docs, plots=False)
-                                    last = time.monotonic()
-                        finally:
-                            bar.close()
+                        _run_units(sweep, folder, units, todo, docs, ex, skipped, progress)
                 stop.holding = True
                 status = "incomplete" if _not_complete(docs) else "complete"
             except BaseException as err:
@@ -169,6 +157,7 @@ def run_sweep(sweep, out: str | Path, *, executor: str = "local", jobs: int | No
                 raise
             finally:
                 ended = status in ("complete", "incomplete")
+                ran = len(docs) - skipped  # each unit run this time added its document
                 complete, plots = _consolidate(sweep, folder, units, docs, plots=ended)
                 while True:
                     if stop.held is not None and status in ("complete", "incomplete"):
@@ -190,6 +179,31 @@ def run_sweep(sweep, out: str | Path, *, executor: str = "local", jobs: int | No
                        ran=ran, failed=sum(d["status"] == "failed" for d in done),
                        abandoned=sum(d["status"] == "abandoned" for d in done), cells_complete=len(complete),
                        wall=time.monotonic() - start, plots=tuple(plots), executor=described)
+
+
+def _run_units(sweep, folder: SweepFolder, units, todo, docs: dict, ex, skipped: int, progress: bool) -> None:
+    """Run the units ``todo`` on the executor ``ex``, writing each into ``folder`` and ``docs`` as it comes
+    (and the tables every CONSOLIDATE_EVERY seconds), with a progress bar."""
+    bar = tqdm(total=len(units), initial=skipped, desc=sweep.name, unit="unit", disable=not progress,
+               file=sys.stderr, dynamic_ncols=True, smoothing=0.05,
+               mininterval=0.5 if sys.stderr.isatty() else 15.0)
+    last = time.monotonic()
+    try:
+        tasks = ((sweep.scenarios[u.cell], u) for u in todo)
+        for doc in ex.imap(tasks, sweep.actions):
+            folder.write_unit(doc)
+            log.debug("unit %s (cell %d, subject %d, seed %d, %s): %s in %.1f s%s", doc["id"], doc["cell"],
+                      doc["subject"], doc["seed"], doc["mode"], doc["status"], doc["wall_s"],
+                      f": {doc['error']}" if doc["error"] else "")
+            docs[doc["id"]] = doc
+            bar.update(1)
+            if doc["status"] != "complete":
+                bar.set_postfix_str(f"{_not_complete(docs)} failed or abandoned", refresh=False)
+            if time.monotonic() - last > CONSOLIDATE_EVERY:
+                _consolidate(sweep, folder, units, docs, plots=False)
+                last = time.monotonic()
+    finally:
+        bar.close()
 
 
 def _not_complete(docs: Mapping[str, dict]) -> int:

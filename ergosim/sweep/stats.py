@@ -19,7 +19,7 @@ can be, paired and unpaired differences, and the per-cell table ``cells.parquet`
   which counts for it: leaving it out would drop the workers a cell is hardest for.
 - **Paired differences** (the same subject and seed in both, e.g. two modes of one cell): the t interval
   of the differences and the two-sided Wilcoxon signed-rank test, as the paper's §7.2 compares hrc with
-  h-only (:func:`~ergosim.twin.report.wilcoxon_between`). With n non-zero differences the test's
+  h-only (:func:`~ergosim.experiment.summary.wilcoxon_between`). With n non-zero differences the test's
   smallest p is 2 / 2ⁿ (``wilcoxon_min_p``): 0.25 at n = 3, 0.0625 at n = 5, so below six pairs it
   cannot show a difference at 0.05 whatever the data. **Unpaired differences**: Welch's t interval and
   the two-sided Mann-Whitney U test. Differences are clipped to what a difference of the metric can be.
@@ -35,9 +35,9 @@ import numpy as np
 import pyarrow as pa
 from scipy import stats
 
+from ergosim.experiment.summary import wilcoxon_between
 from ergosim.sweep.metrics import from_calibration, metric_range, share_trials
 from ergosim.sweep.tables import param_type, param_value
-from ergosim.twin.report import wilcoxon_between
 
 __all__ = ["mean_ci", "share_ci", "metric_ci", "wilson_interval", "wilcoxon_min_p", "paired_difference",
            "unpaired_difference", "cell_statistics", "counted", "CONFIDENCE", "SMALL_N", "STAT_SUFFIXES",

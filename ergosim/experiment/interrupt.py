@@ -19,15 +19,19 @@ unwind through C++ frames and abort the process ("libc++abi: terminating"). Such
 from __future__ import annotations
 
 import contextlib
+import logging
 import signal
 import threading
 from collections.abc import Iterator
 
 from ergosim.errors import one_line_warnings
 from ergosim.held_signals import STOP_SIGNALS
+from ergosim.logs import configure
 
 __all__ = ["Interrupted", "StopSignals", "interrupt_on_signals", "signals_ignored",
            "quiet_worker", "stop_pool", "stop_reason", "STOP_SIGNALS"]
+
+log = logging.getLogger(__name__)
 
 
 class Interrupted(KeyboardInterrupt):
@@ -95,11 +99,14 @@ def interrupt_on_signals(holding: bool = False) -> Iterator[StopSignals]:
             signal.signal(s, handler)
 
 
-def quiet_worker() -> None:
-    """Initializer of a worker process: ignore SIGINT and SIGTERM (the main process stops the workers), and
-    print warnings as one line (:func:`~ergosim.errors.one_line_warnings`)."""
+def quiet_worker(log_level: int | None = None) -> None:
+    """Initializer of a worker process: ignore SIGINT and SIGTERM (the main process stops the workers), log
+    as the main process does (``log_level``: :func:`ergosim.logs.configured_level`, None: as is), and print
+    warnings as one line (:func:`~ergosim.errors.one_line_warnings`)."""
     for s in STOP_SIGNALS:
         signal.signal(s, signal.SIG_IGN)
+    if log_level is not None:
+        configure(log_level)
     one_line_warnings()
 
 
