@@ -191,7 +191,7 @@ def check_reachability(scenario, task: AndOrGraph, cell) -> None:
         allowed.setdefault(op.action, set()).update(op.agents)
     human = next(a.name for a in task.agents if a.kind == "human")
     cfg = scenario.protocol
-    tracks = {r: RobotTrack(cell, cfg.ee_speed, cfg.transit_speed, robot=r) for r in robots}
+    tracks = {r: RobotTrack(cell, cfg.robot.ee_speed, cfg.robot.transit_speed, robot=r) for r in robots}
     reach_human = _human_reach(cell)
     reached: dict[str, int] = {r: 0 for r in robots}
     tried: dict[str, int] = {r: 0 for r in robots}
