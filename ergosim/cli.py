@@ -17,7 +17,7 @@ import os
 import sys
 
 from ergosim import __version__
-from ergosim.errors import ErgosimError
+from ergosim.errors import ErgosimError, one_line_warnings
 from ergosim.logs import configure
 
 __all__ = ["main", "build_parser"]
@@ -67,6 +67,7 @@ def headless_gl() -> None:
 
 def main(argv: list[str] | None = None) -> int:
     headless_gl()
+    one_line_warnings()
     parser = build_parser()
     args = parser.parse_args(argv)
     configure(_log_level(args))

@@ -7,6 +7,7 @@ CLI can print it as a single line without a traceback.
 from __future__ import annotations
 
 __all__ = [
+    "one_line_warnings",
     "ErgosimError",
     "TaskFileError",
     "InfeasiblePlanError",
@@ -48,3 +49,15 @@ class RecordingError(ErgosimError):
 
 class RenderError(ErgosimError):
     """An offscreen picture or video that cannot be rendered or encoded (no OpenGL context, no encoder)."""
+
+
+def _one_line(message, category, filename, lineno, line=None) -> str:
+    return f"ergosim: warning: {' '.join(str(message).split())}\n"
+
+
+def one_line_warnings() -> None:
+    """Print warnings as ``ergosim: warning: <message>``, one line, without the source line Python quotes
+    (which otherwise lands inside a progress bar); the CLI and its worker processes call it."""
+    import warnings  # noqa: PLC0415
+
+    warnings.formatwarning = _one_line

@@ -98,3 +98,36 @@ def test_the_layout_comparison_example_runs(tmp_path):
                           "scene.l_xy=1"], capture_output=True, text=True, timeout=120, check=False)
     assert bad.returncode == 1 and "Traceback" not in bad.stderr
     assert bad.stderr.startswith("compare_layouts: error: ") and "has 1 value, expected 2" in bad.stderr
+
+
+# -- issue 27: docs/api.md's first example as a script, with and without its guard --------------------------
+def _guide_example() -> str:
+    guide = (Path(__file__).resolve().parents[1] / "docs" / "api.md").read_text()
+    code = guide.split("```python\n", 1)[1].split("```", 1)[0]
+    assert 'if __name__ == "__main__":' in code and "jobs=2" in code
+    # the guide's study made small: two subjects, one repetition, a short calibration; still jobs=2
+    return code.replace("subjects=4, repetitions=5", "subjects=2, repetitions=1, eta_max=2")
+
+
+def _script(tmp_path, code: str) -> subprocess.CompletedProcess:
+    path = tmp_path / "study.py"
+    path.write_text(code)
+    return subprocess.run([sys.executable, str(path)], capture_output=True, text=True, timeout=300,
+                          cwd=tmp_path, check=False)
+
+
+def test_the_guide_example_runs_as_a_script_with_two_jobs(tmp_path):
+    code = _guide_example() + '    print("share", res.robot_share("hrc"))\n'
+    proc = _script(tmp_path, code)
+    assert proc.returncode == 0, proc.stderr
+    assert "share " in proc.stdout and "BrokenProcessPool" not in proc.stderr
+
+
+def test_a_parallel_run_at_a_scripts_top_level_is_refused_before_any_worker_starts(tmp_path):
+    """Without the guard the workers re-ran the script and the caller got BrokenProcessPool."""
+    lines = _guide_example().splitlines()
+    code = "\n".join(line.removeprefix("    ") for line in lines if "__main__" not in line) + "\n"
+    proc = _script(tmp_path, code)
+    assert proc.returncode != 0
+    assert "study.py line 4 starts worker processes from the script's top level" in proc.stderr
+    assert 'if __name__ == "__main__":' in proc.stderr and "BrokenProcessPool" not in proc.stderr

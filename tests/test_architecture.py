@@ -19,7 +19,7 @@ PACKAGE = ROOT / "ergosim"
 LAYERS: tuple[tuple[str, ...], ...] = (
     # 0 foundation: errors, file writing, registries, parsing helpers, logging
     ("__init__", "errors", "atomic", "registry", "plugins", "logs", "overrides", "posture", "progress",
-     "exports", "quat"),
+     "exports", "quat", "machine", "held_signals"),
     # 1 the models: body, risk, robot, worker motion, task planning, workcells
     ("human", "ergonomics", "robot", "worker", "planner", "scenes"),
     # 2 the simulation: loop, sessions, allocators, tracks
@@ -46,7 +46,8 @@ LAYER_ALLOWANCES = {
 # module -> (its line count cap, why it is one concept)
 MODULE_LINES = 400
 MODULE_ALLOWANCES = {
-    "ergosim/scenes/cellfile.py": (553, "one file format: a workcell file's keys, parsed and checked"),
+    "ergosim/scenes/cellfile.py": (557, "one file format: a workcell file's keys, parsed and checked (with "
+                                   "issue 27's bounds)"),
     "ergosim/sweep/design.py": (503, "one file format: a sweep file's axes, designs and cells"),
 }
 # (module, function) -> its line count cap

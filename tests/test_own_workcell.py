@@ -27,7 +27,7 @@ def test_a_scenario_with_its_own_task_and_workcell_files_runs_end_to_end(tmp_pat
     assert "scenario bracket (seed 0)" in printed and "r-only" in printed
     summary = json.loads((out / "summary.json").read_text())
     assert summary["complete"] and summary["action_labels"] == ["b1", "b2", "b3", "b4", "b5"]
-    assert summary["config"]["task"] == "bracket_task" and summary["config"]["scene"] == "bracket-cell"
+    assert summary["config"]["task"] == "bracket" and summary["config"]["scene"] == "bracket-cell"  # names
     modes = summary["modes"]
     assert modes["r-only"]["robot_share"] == 1.0 and modes["h-only"]["robot_share"] == 0.0
     assert all(m["repetitions_completed"] == 1 and m["failed_attempts"] == 0 for m in modes.values())

@@ -7,6 +7,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from ergosim.errors import TaskFileError
+from ergosim.planner import generate_task
 from ergosim.planner.liaisons import Liaison, _connected, _splits, child_label, generate_operations
 
 
@@ -97,3 +98,26 @@ def test_cycle_in_precedence_is_an_error():
             ["h"],
             where="t",
         )
+
+
+# -- issue 27: scarce:N built directly, and splits without recursion -----------------------------------------
+def test_scarce_built_directly_equals_the_liaison_generator():
+    """generate_task builds scarce:N's operations directly (the generator is O(N⁴) on its star of liaisons);
+    they are the generator's, operation for operation, order and costs included."""
+    for n in (2, 3, 7, 25):
+        parts = [f"p{i}" for i in range(1, n + 1)]
+        names = ("human", "robot1", "robot2")
+        liaisons = [Liaison(parts[0], parts[i], f"l{i}", names, (1.0,) * 3) for i in range(1, n)]
+        precedence = [(f"l{i}", f"l{i + 1}") for i in range(1, n - 1)]
+        reference = [op for op, _ in generate_operations(parts, liaisons, precedence, names)]
+        built = generate_task(f"scarce:{n}", agents=3).operations
+        assert [(o.name, o.action, o.father, o.children) for o in built] == [
+            (o.name, o.action, o.father, o.children) for o in reference]
+
+
+def test_splits_of_a_long_chain_need_no_recursion():
+    """A chain of 3000 parts: its root has 2999 splits, found 3000 levels deep (RecursionError at HEAD)."""
+    n = 3000
+    adj = [(1 << (i - 1) if i else 0) | (1 << (i + 1) if i + 1 < n else 0) for i in range(n)]
+    found = _splits((1 << n) - 1, adj)
+    assert len(found) == n - 1 and found[0] == 1 and found[-1] == (1 << (n - 1)) - 1

@@ -25,6 +25,7 @@ from ergosim.experiment.plots import (
     read_ticks,
     timeline_figure,
 )
+from ergosim.experiment.plots.tables import SubjectRow
 from ergosim.posture import KWEAR_JOINTS
 
 
@@ -168,3 +169,27 @@ def test_run_plot_subject_chooses_the_panels(kv_two_subjects):
     assert [ax.get_ylabel() for ax in fig.axes[::2]] == ["subject 1\nKWear V"]
     height = matplotlib.image.imread(out / "kwear_timeline_hrc.png").shape[0]
     assert height == pytest.approx(fig.get_figheight() * 110, abs=2)
+
+
+def test_mode_figure_shows_the_peak_wear_and_says_why_the_time_above_v_th_is_zero(run_dir):
+    """Issue 27: the README's right panel (time above V_th) was all zeros ("W = 0, p = 1"). The figure now
+    draws the highest V each subject's joints reached against V_th; where no joint reached V_th the time
+    panel is left out and the figure says why."""
+    rows = read_subjects(run_dir)
+    ticks = read_ticks(run_dir)
+    peaks = {(m, s): float(np.max(t.kwear)) for m, by in ticks.items() for s, t in by.items()}
+    assert all(r.time_above_vth == 0 for r in rows) and max(peaks.values()) < 0.8  # this short run
+    fig = modes_figure(rows, ("hrc", "h-only"), peaks=peaks, v_th=0.8)
+    art = _by_gid(fig)
+    assert len(fig.axes) == 2 and "time_above_vth/0" not in art
+    for s in (0, 1):
+        assert list(art[f"peak_v/{s}"].get_ydata()) == [peaks[("hrc", s)], peaks[("h-only", s)]]
+    assert art["v_th"].get_ydata()[0] == 0.8
+    assert "no joint reached it in any mode" in art["note/peak_v"].get_text()
+    assert art["p/peak_v/h-only"].get_text().startswith("hrc vs h-only: Wilcoxon")
+    # a subject above V_th brings the time panel back, with its test
+    above = [SubjectRow(r.subject, r.worker, r.mode, r.kwear_integral, 4.0 * (r.mode == "h-only"))
+             for r in rows]
+    art = _by_gid(modes_figure(above, ("hrc", "h-only"), peaks=peaks, v_th=0.8))
+    assert "time_above_vth/0" in art and "note/peak_v" in art
+    assert "no joint reached" not in art["note/peak_v"].get_text()

@@ -11,8 +11,8 @@ import pytest
 
 from ergosim.cli import main
 from ergosim.errors import ConfigError
+from ergosim.experiment.robot_refusals import handover_clearance, robot_refusals
 from ergosim.experiment.scenario import load_scenario
-from ergosim.experiment.scenario_check import _handover_clearance, robot_refusals
 from ergosim.robot import get_robot, robot_names
 from ergosim.robot.capability import refusal
 from ergosim.robot.panda import PANDA
@@ -84,7 +84,7 @@ def test_a_handover_pose_at_the_workers_face_is_refused_for_the_robot(capsys, tm
     before the physics, in one line each, and the worker does them; out of its reach, likewise."""
     sc = load_scenario("multi-subject")
     cell = build_cell(sc.cell())
-    clear = [_handover_clearance(cell, cell.robot(), g) for g in cell.actions.values() if g.handover]
+    clear = [handover_clearance(cell, cell.robot(), g) for g in cell.actions.values() if g.handover]
     assert len(clear) == 4 and all(0.2 < c < 0.35 for c in clear)
     assert robot_refusals(sc.task(), cell) == {}
     near = load_scenario("multi-subject", {"scene.targets.handover.pos": "0.25,0.3,1.3"})

@@ -77,6 +77,11 @@ def test_merge_refuses_what_is_not_shards_of_one_run(shards, tmp_path, capsys):
     other = tmp_path / "other"
     # one subject is enough: the configs are compared before the subject ranges
     assert main([*RUN[:-2], "--set", "eta_max=3", "--subject-range", "2:3", "--out", str(other)]) == 0
+    moved = tmp_path / "moved"  # issue 27: a task override changes no protocol field, and did merge
+    assert main([*RUN, "--set", "task.agents.robot.cost=3", "--subject-range", "2:3",
+                 "--out", str(moved)]) == 0
+    assert json.loads((moved / "run.json").read_text())["config"]["overrides"] == {
+        "eta_max": "2", "repetitions": "1", "subjects": "3", "task.agents.robot.cost": "3"}
     unfinished = tmp_path / "unfinished"
     shutil.copytree(shards / "b", unfinished)
     manifest = json.loads((unfinished / "run.json").read_text())
@@ -85,7 +90,8 @@ def test_merge_refuses_what_is_not_shards_of_one_run(shards, tmp_path, capsys):
         ([shards / "a", shards / "whole"], "subjects [0] are in both"),
         ([shards / "b", shards / "whole"], "are in both"),
         ([shards / "b"], None),  # a shard alone merges to itself (subjects 1..2)
-        ([shards / "a", other], "config eta_max is 3 here but 2"),
+        ([shards / "a", other], "run with --set eta_max=3 here but --set eta_max=2 in"),
+        ([shards / "a", moved], "--set task.agents.robot.cost=3 here but no --set task.agents.robot"),
         ([shards / "a", unfinished], "the run is 'interrupted', not finished"),
         ([shards / "a", tmp_path / "nothing"], "not a directory"),
         ([shards / "a", tmp_path], "no subject_records.json"),

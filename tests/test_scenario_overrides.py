@@ -92,7 +92,7 @@ def test_another_task_and_workcell_by_file(tmp_path):
     scenario = write_product(tmp_path / "own")
     sc = load_scenario("gearbox", {"task": str(tmp_path / "own" / "bracket_task.toml"),
                                    "workcell": str(tmp_path / "own" / "bracket_cell.toml")})
-    assert sc.protocol.task == "bracket_task" and sc.protocol.scene == "bracket-cell"
+    assert sc.protocol.task == "bracket" and sc.protocol.scene == "bracket-cell"
     assert sc.task().actions == ("b1", "b2", "b3", "b4", "b5")
     assert scenario.exists()
 
@@ -107,7 +107,7 @@ def test_another_task_and_workcell_by_file(tmp_path):
     ({"task.liaisons.g9.agents": "human"}, "unknown task field 'liaisons.g9.agents'"),
     ({"task.liaisons.g2.agents": "nobody"}, "unknown agent 'nobody'"),
     ({"task.liaisons.g1.agents": "robot"}, "its gripper cannot take housing"),
-    ({"takt": "-1"}, "takt must be > 0"),
+    ({"takt": "-1"}, "takt must be in (0, 3600] s, got -1"),
     ({"workcell": "nope"}, "unknown scene 'nope'"),
     ({"task": "nope.toml"}, "no such task file"),
     ({"protocol.scene": "x"}, "'protocol.scene' is a label"),

@@ -8,15 +8,20 @@ import textwrap
 from pathlib import Path
 
 import numpy as np
+import pyarrow as pa
 import pytest
 
 import ergosim.sweep as sweep_pkg
 import ergosim.sweep.units as units_mod
 from ergosim.cli import main
+from ergosim.commands.sweep import _cells_text
 from ergosim.errors import ConfigError
 from ergosim.experiment.scenario import scenario_path
 from ergosim.sweep.design import MAX_CELLS, load_sweep, set_string
 from ergosim.sweep.fingerprint import code_fingerprint
+from ergosim.sweep.plots import write_sweep_plots
+from ergosim.sweep.stats import cell_statistics
+from ergosim.sweep.tables import write_parquet
 from ergosim.sweep.units import plan_units, unit_id
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -188,7 +193,7 @@ BAD = [
     ('scenario = "kwear-validation"\n[grid]\nscene.shelf_height = [1.4, 2.9]\n', "grid.scene.shelf_height"),
     ('scenario = "kwear-validation"\n[grid]\nscene.shelf_height = [1.45, 1.35]\n'
      'scene.shelf_low_height = [1.0, 1.1]\n', "cell 3 (scene.shelf_height=1.35, scene.shelf_low_height=1.1)"),
-    ('scenario = "kwear-validation"\n[grid]\ntakt = [-1.0, 30.0]\n', "takt must be > 0"),
+    ('scenario = "kwear-validation"\n[grid]\ntakt = [-1.0, 30.0]\n', "takt must be in (0, 3600] s"),
     ('scenario = "multi-subject"\n[zip]\n"scene.l_xy" = [[0.2, 0.8]]\n'
      '"scene.s1_xy" = [[0.3, 0.9], [0.3, 0.8]]\n', "one length"),
     ('scenario = "kwear-validation"\n[grid]\ntakt = [38.0]\n[zip]\ntakt = [40.0]\n', "both [grid] and [zip]"),
@@ -273,3 +278,98 @@ def test_units_are_tied_to_the_code_that_planned_them(tmp_path, monkeypatch):
     assert {u.id for u in before}.isdisjoint(u.id for u in after)  # other code: nothing is reused
     doc = units_mod.run_unit(s.scenarios[0], before[0], s.actions)  # a worker with other code refuses
     assert doc["status"] == "failed" and "runs other code" in doc["error"] and doc["metrics"] == {}
+
+
+# -- issue 27: a [zip] is one factor with named levels ------------------------------------------------------
+LAYOUTS = """
+    scenario = "multi-subject"
+    modes = ["hrc", "h-only"]
+    subjects = 3
+    metrics = ["robot_share", "kwear_integral", "time_above_vth", "takt_overruns", "kwear_mean"]
+    [grid]
+    takt = [38.0, 42.0]
+    [zip]
+    name = "layout"
+    levels = ["A", "B", "C"]
+    "scene.l_xy" = [[0.20, 0.82], [0.24, 0.86], [0.22, 0.84]]
+    "scene.s1_xy" = [[0.30, 0.90], [0.34, 0.94], [0.32, 0.92]]
+"""
+
+
+def test_a_zip_is_one_factor_with_named_levels(tmp_path):
+    s = load_sweep(_write(tmp_path, LAYOUTS))
+    assert [(f.name, f.block, f.keys) for f in s.factors] == [
+        ("takt", "grid", ("takt",)), ("layout", "zip", ("scene.l_xy", "scene.s1_xy"))]
+    assert s.factors[1].levels == ("A", "B", "C") and s.factors[1].column == "param.layout"
+    assert [c.label() for c in s.cells[:3]] == ["takt=38.0, layout=A", "takt=38.0, layout=B",
+                                                "takt=38.0, layout=C"]
+    assert s.cells[1].settings() == ("takt=38.0, layout=B (takt=38.0, scene.l_xy=0.24,0.86, "
+                                     "scene.s1_xy=0.34,0.94)")
+    # without a name and levels: the keys joined, the values joined
+    bare = load_sweep(_write(tmp_path, LAYOUTS.replace('name = "layout"\n', "").replace(
+        'levels = ["A", "B", "C"]\n', ""), "bare.toml"))
+    assert bare.factors[1].name == "scene.l_xy+scene.s1_xy"
+    assert bare.factors[1].levels[0] == "0.2,0.82 / 0.3,0.9"
+
+
+@pytest.mark.parametrize("change,needle", [
+    (('levels = ["A", "B", "C"]', 'levels = ["A", "B"]'), "2 level names for 3 positions of the zip"),
+    (('levels = ["A", "B", "C"]', 'levels = ["A", "A", "C"]'), "a level name is given twice"),
+    (('name = "layout"', 'name = "takt"'), "the zip's name 'takt' is also an axis key"),
+    (('name = "layout"', "name = 3"), "expected the zip's name as a non-empty string"),
+])
+def test_bad_zip_names_are_one_line_errors(tmp_path, capsys, change, needle):
+    path = _write(tmp_path, LAYOUTS.replace(*change))
+    assert main(["sweep", str(path), "--dry-run"]) == 2
+    err = capsys.readouterr().err
+    assert needle in err and err.count("\n") == 1 and "s.toml: zip" in err
+
+
+def test_the_zip_is_one_axis_of_the_plots_and_the_heat_map_is_full(tmp_path):
+    """At HEAD the zip's keys were separate axes: three response plots (two identical) and a heat map of
+    l_xy × s1_xy with only its diagonal filled. Now: one response plot per factor, one full heat map."""
+
+    s = load_sweep(_write(tmp_path, LAYOUTS))
+    rows = _synthetic_rows(s)
+    names = write_sweep_plots(tmp_path, s, rows)
+    assert names == ["response_takt.png", "response_layout.png", "heatmap_takt__layout.png"]
+    table = cell_statistics(s, rows, {c.index for c in s.cells}).to_pylist()
+    assert [r["param.layout"] for r in table[:6]] == ["A", "A", "B", "B", "C", "C"]
+    assert table[0]["label"] == "takt=38.0, layout=A"
+
+
+def _synthetic_rows(s) -> list[dict]:
+    rng = np.random.default_rng(0)
+    rows = []
+    for cell in s.cells:
+        for subject in s.subjects:
+            for mode in s.modes:
+                rows.append({"cell": cell.index, "subject": subject, "seed": 0, "mode": mode,
+                             "status": "complete", "param.layout": cell.levels["layout"],
+                             **{a.column: list(v) if isinstance(v := cell.params[a.key], tuple) else v
+                                for a in s.axes},
+                             "robot_share": 0.0 if mode == "h-only" else 0.2 + 0.1 * rng.random(),
+                             "actions": 10, "kwear_integral": 100 + 10 * rng.random(),
+                             "time_above_vth": 0.0, "takt_overruns": int(rng.random() < 0.3),
+                             "kwear_mean": 1.0 + rng.random()})
+    return rows
+
+
+def test_the_end_of_sweep_table_shows_every_metric(tmp_path):
+    """At HEAD it showed the first four (commands/sweep.py:59): a fifth metric went missing."""
+
+    s = load_sweep(_write(tmp_path, LAYOUTS))
+    rows = _synthetic_rows(s)
+    rows[0].update(status="abandoned", error="g2: no agent left", repetitions_completed=1)
+    write_parquet(tmp_path / "cells.parquet", cell_statistics(s, rows, {c.index for c in s.cells}))
+    results = {k: [r.get(k) for r in rows] for k in ("cell", "subject", "seed", "mode", "status", "error",
+                                                     "repetitions_completed", "kwear_integral")}
+    write_parquet(tmp_path / "results.parquet", pa.table(results))
+    text = _cells_text(tmp_path, s)
+    block = text.split("cell 0 ")[1].split("cell 1 ")[0]
+    for metric in s.metrics:
+        assert f"\n  {metric} " in block, metric
+    assert "h-only − hrc (paired)" in block and "n=3" in block and "small n (< 6)" in block
+    assert "(≥0.25)" in text  # three pairs: a Wilcoxon p cannot go below 0.25
+    assert "1 unit(s) left out of the statistics" in text
+    assert "cell 0 hrc subject 0 seed 0: abandoned after 1 completed repetition(s)" in text

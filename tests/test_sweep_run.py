@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -258,7 +259,51 @@ def test_a_unit_equals_the_same_subject_in_ergosim_run(local, tmp_path, capsys):
                     "takt_overruns", "rula_g.a1", "robot_share.a1"):
             assert mine[key] == r[key], key
     capsys.readouterr()
-    assert main(["compare", str(run_out), str(sweep_out), "--metric", "kwear_integral", "--json"]) == 2
-    assert "share no cell" in capsys.readouterr().err  # a run is one cell, the sweep four: no match
+    # a run against a sweep of four cells: the run against each cell, and the cell of the run's settings
+    # has no setting that differs and no difference (at HEAD: "share no cell")
+    assert main(["compare", str(run_out), str(sweep_out), "--metric", "kwear_integral", "--json"]) == 0
+    rows = json.loads(capsys.readouterr().out)["rows"]
+    assert len(rows) == 4
+    same = [r for r in rows if not r["settings"]]
+    assert len(same) == 1 and same[0]["diff"] == 0 and same[0]["cell"].endswith("scene.shelf_height=1.6, "
+                                                                                 "robot_cost=50")
+    other = next(r for r in rows if r["cell"].endswith("scene.shelf_height=1.45, robot_cost=25"))
+    assert [s[0] for s in other["settings"]] == ["robot_cost", "scene.shelf_height"]
+    assert other["settings"][1] == ["scene.shelf_height", "1.6", "1.45"]
+    assert main(["compare", str(sweep_out), str(run_out), "--a-cell", "scene.shelf_height=1.6",
+                 "--a-cell", "robot_cost=50"]) == 0
+    assert "settings that differ: none" in capsys.readouterr().out
     rows = compare_folders(read_folder(sweep_out), read_folder(sweep_out))
     assert all(r["diff"] == 0 and r["test"] == "wilcoxon" and r["p"] == 1.0 for r in rows)
+
+
+def test_compare_two_cells_of_one_sweep_says_which_settings_differ(local, capsys):
+    """The question a layout engineer asks first: one sweep folder, two of its cells."""
+    _, out, table = local
+    assert main(["compare", str(out), "--a-cell", "robot_cost=25", "--b-cell", "robot_cost=50",
+                 "--metric", "kwear_integral"]) == 0
+    text = capsys.readouterr().out
+    # the other factor (shelf height) is matched: two comparisons, each 25 -> 50 at one shelf height
+    assert text.count("settings that differ (A -> B): robot_cost 25 -> 50") == 2
+    assert "A scene.shelf_height=1.45, robot_cost=25  vs  B scene.shelf_height=1.45, robot_cost=50" in text
+    assert main(["compare", str(out), "--a-cell", "layout=A", "--b-cell", "robot_cost=50"]) == 2
+    err = capsys.readouterr().err
+    assert "has no factor 'layout'" in err and "scene.shelf_height: 1.45 | 1.6" in err
+    assert main(["compare", str(out)]) == 2
+    assert "give a second folder, or --a-cell and --b-cell" in capsys.readouterr().err
+
+
+def test_compare_warns_about_an_interrupted_or_crashed_folder(local, tmp_path, capsys):
+    _, out, _ = local
+    crashed = tmp_path / "crashed"
+    shutil.copytree(out, crashed)
+    manifest = json.loads((crashed / "sweep.json").read_text())
+    (crashed / "sweep.json").write_text(json.dumps({**manifest, "status": "running"}))
+    assert main(["compare", str(out), str(crashed), "--metric", "kwear_integral"]) == 0
+    err = capsys.readouterr().err
+    assert f"ergosim: warning: {crashed}: the sweep still running, or was killed" in err
+    (crashed / "sweep.json").write_text(json.dumps({**manifest, "status": "interrupted"}))
+    assert main(["compare", str(out), str(crashed), "--metric", "kwear_integral", "--json"]) == 0
+    captured = capsys.readouterr()
+    assert "was interrupted (Ctrl-C or SIGTERM); only the units it finished are compared" in captured.err
+    assert json.loads(captured.out)["warnings"] == [captured.err.split("warning: ")[1].strip()]

@@ -134,7 +134,7 @@ def test_sequential_defaults_keep_the_papers_summary(kv_run):
 
 @pytest.mark.parametrize("key, value, message", [
     ("execution", "swarm", "is not one of sequential, parallel"),
-    ("w_time", "-1", "w_time must be >= 0"),
+    ("w_time", "-1", r"w_time must be in \[0, 1e\+06\]"),
     ("refusal_tolerance", "1.5", "refusal_tolerance must be in"),
     ("team_margin", "0", "team_margin must be > 0"),
     ("scene.safety.ssm", "maybe", "ssm must be one of auto, on, off"),

@@ -36,7 +36,7 @@ def test_both_speeds_are_protocol_fields_with_their_sources():
 @pytest.mark.parametrize("setting, needle", [
     ("transit_speed=5", "transit_speed must be at most 1.7 m/s (the panda's Cartesian limit, robot 'robot'), "
                         "got 5"),
-    ("transit_speed=0", "transit_speed must be > 0 m/s"),
+    ("transit_speed=0", "transit_speed must be at least 0.001 m/s, got 0"),
     ("transit_speed=fast", "transit_speed='fast' is not a number"),
     ("ee_speed=0.3", "ee_speed (0.3 m/s, contact-critical motion) must not exceed transit_speed (0.25 m/s"),
 ])

@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import copy
+import csv
 import importlib
 import json
 import os
+import shlex
 import signal
 import subprocess
 import sys
@@ -290,3 +292,29 @@ def test_every_public_name_exists(package):
     assert module.__all__
     for name in module.__all__:
         assert getattr(module, name) is not None, name
+
+
+def test_the_readme_video_command_films_a_hand_over(tmp_path):
+    """Issue 27: the README's command filmed a repetition the robot never acted in. The same run without
+    the video (the results are byte-identical with it): in the filmed repetitions the robot hands a part
+    over and the worker finishes the action."""
+    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    line = next(x for x in readme.splitlines() if x.startswith("ergosim run ") and "--video " in x)
+    args = shlex.split(line)[1:]
+    reps = args[args.index("--video-reps") + 1]
+    first, _, last = reps.partition(":")
+    filmed = range(int(first or 1), int(last or first) + 1)
+    kept, skip = [], 0
+    for a in args:  # the run without its --video options
+        if skip:
+            skip -= 1
+        elif a.startswith("--video"):
+            skip = 1
+        else:
+            kept.append(a)
+    assert main([*kept, "--jobs", "1", "--quiet", "--out", str(tmp_path / "o")]) == 0
+    cell = load_scenario(kept[1]).cell()
+    handed = {a.label for a in cell.actions if a.handover}
+    with (tmp_path / "o" / "allocations.csv").open() as f:
+        rows = [r for r in csv.DictReader(f) if int(r["repetition"]) in filmed]
+    assert any(r["agent"] == "robot" and r["status"] == "done" and r["action"] in handed for r in rows), rows

@@ -19,7 +19,7 @@ from ergosim.posture import ANGLE_NAMES, KWEAR_JOINTS
 from ergosim.scenes import build_cell
 from ergosim.viz import RecordingReader, default_body_groups, open_recording
 from ergosim.viz.blueprint import ARM_ANGLES, ARM_RANGE, KWEAR_RANGE, RULA_RANGE, TRUNK_RANGE
-from ergosim.viz.eye import _FOV_DEG, _visible_bounds, frame_scene
+from ergosim.viz.eye import _FOV_DEG, _visible_bounds, _visible_corners, frame_scene
 from ergosim.worker.subjects import make_subjects
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -97,24 +97,27 @@ def test_legends_sit_in_bands_the_data_never_reach(recorded):
 
 @pytest.mark.parametrize("name", scenario_names())
 def test_the_3d_view_frames_every_visible_geom_of_each_cell(name):
+    """Every corner of every visible geom's box inside the view rerun draws (its measured field of view and
+    aspect), the view centred on them and filled (issue 27: the view opened far out: the depth of a point
+    entered the framing with the wrong sign)."""
     cell = build_cell(load_scenario(name).cell())
     view = cell.config.view()
     eye = frame_scene(cell.model, view.azimuth, view.elevation)
-    lo, hi = _visible_bounds(cell.model)
-    corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
+    corners = _visible_corners(cell.model)
     forward = np.subtract(eye.look_target, eye.position)
-    distance = np.linalg.norm(forward)
-    forward /= distance
+    forward /= np.linalg.norm(forward)
     right = np.cross(forward, [0, 0, 1.0])
     right /= np.linalg.norm(right)
     up = np.cross(right, forward)
     rel = corners - np.asarray(eye.position)
     depth = rel @ forward
     tan_v = math.tan(math.radians(_FOV_DEG) / 2)
-    v = np.abs(rel @ up) / depth / tan_v
-    h = np.abs(rel @ right) / depth / (tan_v * 1.3)
-    assert depth.min() > 0 and max(v.max(), h.max()) <= 1.0  # everything in view
-    assert max(v.max(), h.max()) > 0.75  # and not lost in the middle of it
+    v = (rel @ up) / depth / tan_v
+    h = (rel @ right) / depth / (tan_v * 1.47)
+    assert depth.min() > 0 and max(np.abs(v).max(), np.abs(h).max()) <= 1.0  # everything in view
+    assert max(np.abs(v).max(), np.abs(h).max()) > 0.85  # and filling it
+    assert abs(v.max() + v.min()) < 0.05 or abs(h.max() + h.min()) < 0.05  # centred where it is tight
+    lo, hi = _visible_bounds(cell.model)
     human = [b for b, g in default_body_groups(cell.model, cell.parts).items() if g == "human"]
     assert human and all(np.all(lo - 1e-9 <= cell.data.xpos[cell.model.body(b).id]) for b in human)
 

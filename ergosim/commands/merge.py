@@ -35,7 +35,7 @@ def run(args) -> int:
 
     result = merge_runs([Path(d) for d in args.dirs], Path(args.out))
     if not args.quiet:
-        cfg = protocol_from_record(result.config)
+        cfg = protocol_from_record({k: v for k, v in result.config.items() if k != "overrides"})
         print(summary_text(result.summary, cfg))
     first, last = result.subjects.start, result.subjects.stop - 1
     print(f"merged {len(args.dirs)} run folder(s), subjects {first}..{last}: {result.out.resolve()}")

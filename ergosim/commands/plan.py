@@ -170,6 +170,10 @@ def run(args: argparse.Namespace) -> int:
         raise ConfigError(f"must be an integer >= 0, got {args.seed}", where="--seed")
     if args.max_states is not None and args.max_states < 1:
         raise ConfigError(f"must be >= 1, got {args.max_states}", where="--max-states")
+    if args.max_states is not None:
+        from ergosim.planner.limits import check_paper_states  # noqa: PLC0415
+
+        check_paper_states(args.max_states, where="--max-states")
     if args.generate is not None:
         if args.task is not None:
             raise ConfigError("give either TASK or --generate, not both", where="--generate")

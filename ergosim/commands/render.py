@@ -11,6 +11,7 @@ import argparse
 import io
 from pathlib import Path
 
+from ergosim.atomic import check_output_file
 from ergosim.errors import ConfigError
 from ergosim.overrides import parse_assignments
 
@@ -47,8 +48,7 @@ def run(args) -> int:
     if out.suffix.lower() != ".png":
         raise ConfigError(f"the still is written as PNG: give a file name ending in .png, got {out.name!r}",
                           where="--out")
-    if out.is_dir():
-        raise ConfigError(f"{out} is a directory; expected the path of the .png file to write", where="--out")
+    check_output_file(out, where="--out")
     width, height = parse_size(args.size, where="--size")
     scenario = load_scenario(args.scenario, parse_assignments(args.assign))
     spec = scenario.cell()

@@ -71,8 +71,10 @@ def _scenario(args):
         raise ConfigError(f"must be an integer >= 0, got {args.seed}", where="--seed")
     counts = (("--subjects", "subjects", args.subjects), ("--reps", "repetitions", args.reps),
               ("--mode", "modes", args.mode))
+    flags = {}  # the protocol fields given by an option, not by --set
     for flag, field, value in counts:
         if value is not None:
+            flags[field] = flag
             if field in own:  # two answers to one question: refuse rather than pick one silently
                 raise ConfigError(f"{flag} {value} and --set {field}={own[field]} both set {field}; give one",
                                   where=flag)
@@ -81,7 +83,14 @@ def _scenario(args):
             own[field] = str(value)
     if args.jobs is not None and args.jobs < 1:
         raise ConfigError(f"must be >= 1, got {args.jobs}", where="--jobs")
-    scenario = load_scenario(args.scenario, own)
+    try:
+        scenario = load_scenario(args.scenario, own)
+    except ConfigError as err:  # a bound on --subjects or --reps names that option, not --set
+        flag = next((f for field, f in flags.items() if err.where == "--set" and err.what.startswith(field)),
+                    None)
+        if flag is None:
+            raise
+        raise ConfigError(err.what, where=flag) from None
     cfg = scenario.protocol
     recording = args.rrd is not None or args.spawn or args.connect is not None
     if (args.rrd_subject is not None or args.rrd_mode is not None) and not recording:

@@ -40,36 +40,107 @@ def add_parser(sub) -> argparse.ArgumentParser:
 
 
 def _plan_text(sweep, finished: int) -> str:
+    from ergosim.sweep.design import set_string  # noqa: PLC0415
+    from ergosim.sweep.stats import SMALL_N  # noqa: PLC0415
+
     lines = [f"sweep {sweep.name}: scenario {sweep.scenario}, {len(sweep.cells)} cell(s) × "
              f"{len(sweep.subjects)} subject(s) × {len(sweep.seeds)} seed(s) × {len(sweep.modes)} mode(s) = "
              f"{sweep.n_units} units ({finished} finished in the folder)"]
-    for a in sweep.axes:
-        shown = ", ".join(str(v) for v in a.values[:8]) + (", ..." if len(a.values) > 8 else "")
-        lines.append(f"  axis {a.key} [{a.block}]: {shown}")
+    for f in sweep.factors:
+        if f.block == "zip":
+            values = {a.key: a.values for a in sweep.axes}
+            shown = "; ".join(f"{lv} (" + ", ".join(f"{k}={set_string(values[k][i], k)}" for k in f.keys)
+                              + ")" for i, lv in enumerate(f.levels[:8]))
+        else:
+            shown = ", ".join(f.levels[:8])
+        lines.append(f"  factor {f.name} [{f.block}]: {shown}" + (", ..." if len(f.levels) > 8 else ""))
     if sweep.fixed:
         lines.append("  fixed: " + ", ".join(f"{k}={v}" for k, v in sweep.fixed.items()))
     lines.append(f"  modes {', '.join(sweep.modes)}; metrics {', '.join(sweep.metrics)}")
+    people = len(sweep.subjects) * len(sweep.seeds)
+    if people < SMALL_N:
+        lines.append(f"  small n: {people} subject(s) per cell and mode; with fewer than {SMALL_N} the "
+                     "intervals are wide and no paired test can reach p < 0.05")
     return "\n".join(lines)
 
 
+MAX_CELLS_SHOWN = 12
+"""Cells the end-of-sweep table shows; the rest are in cells.parquet."""
+
+
+def _estimate(mean, lo, hi, n) -> str:
+    if mean is None:
+        return "-"
+    ci = f" [{lo:.3g}, {hi:.3g}]" if lo is not None and hi is not None else ""
+    return f"{mean:.3g}{ci} n={n}"
+
+
 def _cells_text(out: Path, sweep) -> str:
+    """Every metric of every cell (up to MAX_CELLS_SHOWN), one line per metric: each mode's mean with its
+    95 % interval and n, and each later mode's paired difference from the first with the Wilcoxon p."""
+    from ergosim.sweep.stats import SMALL_N  # noqa: PLC0415
     from ergosim.sweep.tables import read_parquet  # noqa: PLC0415
 
     rows = read_parquet(out / "cells.parquet").to_pylist()
     if not rows:
         return "no cell has finished every unit yet"
-    metrics = list(sweep.metrics)[:4]
-    lines = ["cell  mode     " + "  ".join(f"{m:>24}" for m in metrics) + "  cell values"]
-    for r in rows[:40]:
-        vals = []
-        for m in metrics:
-            mean, lo, hi = r[f"{m}.mean"], r[f"{m}.ci_low"], r[f"{m}.ci_high"]
-            ci = f" [{lo:.3g}, {hi:.3g}]" if lo is not None else ""
-            text = "-" if mean is None else f"{mean:.3g}{ci}"
-            vals.append(f"{text:>24}")
-        lines.append(f"{r['cell']:>4}  {r['mode']:<8} " + "  ".join(vals) + f"  {r['label']}")
-    if len(rows) > 40:
-        lines.append(f"... {len(rows) - 40} more rows in cells.parquet")
+    base, others = sweep.modes[0], sweep.modes[1:]
+    width = max(len(m) for m in sweep.metrics) + 2
+    head = f"  {'metric':<{width}}" + "".join(f"{m:<30}" for m in sweep.modes)
+    head += "".join(f"{f'{m} − {base} (paired)':<36}" for m in others)
+    lines = ["mean [95 % interval] n=completed units; shares: Wilson, others: t clipped to the metric's "
+             "range; abandoned and failed units are left out (docs/sweeps.md)"]
+    by_cell: dict[int, dict[str, dict]] = {}
+    for r in rows:
+        by_cell.setdefault(r["cell"], {})[r["mode"]] = r
+    for cell, modes in list(by_cell.items())[:MAX_CELLS_SHOWN]:
+        first = next(iter(modes.values()))
+        gone = sum(r["units_failed"] + r["units_abandoned"] for r in modes.values())
+        note = f"{first['units_counted']} of {first['units']} units per mode counted"
+        note += f"; {gone} failed or abandoned, listed below" if gone else ""
+        note += f"; small n (< {SMALL_N})" if any(r["small_n"] for r in modes.values()) else ""
+        lines += ["", f"cell {cell}  {first['label']}  ({note})", head.rstrip()]
+        for m in sweep.metrics:
+            line = f"  {m:<{width}}"
+            for mode in sweep.modes:
+                r = modes.get(mode, {})
+                shown = _estimate(*(r.get(f"{m}.{k}") for k in ("mean", "ci_low", "ci_high", "n")))
+                line += f"{shown:<30}"
+            for mode in others:
+                r = modes.get(mode, {})
+                d, p, floor = r.get(f"{m}.diff"), r.get(f"{m}.wilcoxon_p"), r.get(f"{m}.wilcoxon_min_p")
+                text = "-"
+                if d is not None:
+                    text = _estimate(d, r.get(f"{m}.diff_ci_low"), r.get(f"{m}.diff_ci_high"),
+                                     r.get(f"{m}.pairs"))
+                    text += f" p={p:.2g}" if p is not None else ""
+                    text += f" (≥{floor:.2g})" if floor is not None and 0.05 <= floor < 1 else ""
+                line += f"{text:<36}"
+            lines.append(line.rstrip())
+    if len(by_cell) > MAX_CELLS_SHOWN:
+        lines.append(f"\n... {len(by_cell) - MAX_CELLS_SHOWN} more cells in cells.parquet")
+    if any(r["small_n"] for r in rows):
+        lines.append("\n(≥p): with so few pairs the Wilcoxon signed-rank test cannot give a p below it "
+                     "(2 / 2^n): it cannot show a difference at 0.05")
+    return "\n".join(lines) + _left_out_text(out)
+
+
+def _left_out_text(out: Path, limit: int = 10) -> str:
+    """The abandoned and failed units, reported apart from the statistics they are left out of."""
+    from ergosim.sweep.tables import read_parquet  # noqa: PLC0415
+
+    rows = [r for r in read_parquet(out / "results.parquet").to_pylist() if r["status"] != "complete"]
+    if not rows:
+        return ""
+    lines = ["", f"{len(rows)} unit(s) left out of the statistics (results.parquet has their rows):"]
+    for r in rows[:limit]:
+        what = f"  cell {r['cell']} {r['mode']} subject {r['subject']} seed {r['seed']}: {r['status']}"
+        if r["status"] == "abandoned":
+            what += (f" after {r['repetitions_completed']} completed repetition(s), kwear_integral "
+                     f"{r['kwear_integral']:.3g} (partial)")
+        lines.append(f"{what}: {r['error']}"[:200])
+    if len(rows) > limit:
+        lines.append(f"  ... {len(rows) - limit} more")
     return "\n".join(lines)
 
 

@@ -8,9 +8,9 @@ from __future__ import annotations
 
 import argparse
 import math
-import os
 from pathlib import Path
 
+from ergosim.atomic import check_output_file
 from ergosim.errors import ConfigError
 
 __all__ = ["add_video_arguments", "video_request", "check_can_render", "video_line"]
@@ -50,12 +50,7 @@ def video_request(args: argparse.Namespace, scenario):
     if path.suffix.lower() != ".mp4":
         raise ConfigError(f"the video is written as MP4: give a file name ending in .mp4, got {path.name!r}",
                           where="--video")
-    if path.is_dir():
-        raise ConfigError(f"{path} is a directory; expected the path of the .mp4 file to write",
-                          where="--video")
-    parent = next((p for p in (path.parent, *path.parent.parents) if p.exists()), Path("."))
-    if not parent.is_dir() or not os.access(parent, os.W_OK | os.X_OK):
-        raise ConfigError(f"cannot write into {parent}: permission denied", where="--video")
+    check_output_file(path, where="--video")
     subject = 0 if args.video_subject is None else args.video_subject
     if not 0 <= subject < cfg.population.subjects:
         raise ConfigError(f"must be a subject index in 0..{cfg.population.subjects - 1}, got {subject}",

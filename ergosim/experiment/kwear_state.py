@@ -5,7 +5,7 @@
 
     {
       "format": "ergosim-kwear-state/1",
-      "scenario": "multi-subject", "task": "multi-subject", "seed": 0,
+      "scenario": "multi-subject", "task": "corner-joint-multi-subject", "seed": 0,
       "subject": 0, "worker": "S01", "mode": "hrc",
       "time_s": 76.0,                                   # simulated time of the state [s]
       "joints": ["shoulder", "elbow", "wrist", "trunk", "neck"],

@@ -224,11 +224,11 @@ def output(name: str) -> Output:
         raise KeyError(f"no output {name!r}; outputs: {', '.join(o.name for o in OUTPUTS)}") from None
 
 
-def write_outputs(out: Path, products: Products, *, final: bool) -> None:
+def write_outputs(out: Path, products: Products, *, final: bool, skip: tuple[str, ...] = ()) -> None:
     """Write the outputs of a run into ``out``: those rewritten after every subject, and with ``final`` every
-    one."""
+    one; but those named in ``skip`` (a run writes its summary apart, once its status is final)."""
     for o in OUTPUTS:
-        if final or o.each:
+        if (final or o.each) and o.name not in skip:
             o.write(out, products)
 
 

@@ -15,12 +15,18 @@ read as this run's; other files are left alone. ``run.json`` is rewritten when t
 
 and ``files``, the outputs of this run. Only a ``complete`` run's files are the whole experiment;
 ``summary.json`` says the same in ``complete`` and ``status``.
+
+One run at a time owns a folder: :meth:`RunFolder.claim` takes an advisory lock on the folder itself
+(``flock``), held until the run ends, so a second run into the same ``--out`` is refused with one line
+instead of mixing its files with the first's. An entry in the folder that has an output's name but is
+not a regular file (a directory called ``summary.json``) is refused before the run too.
 """
 
 from __future__ import annotations
 
 import contextlib
 import errno
+import fcntl
 import fnmatch
 import json
 import logging
@@ -73,7 +79,17 @@ class RunFolder:
         if not os.access(path, os.W_OK | os.X_OK):
             self._undo_mkdir()
             raise ConfigError(f"cannot write into {path}: permission denied", where=self.where)
-        self.removed = self._remove_stale()
+        self._lock()
+        try:
+            self._check_names()
+        except ConfigError:
+            self.release()
+            raise
+        try:
+            self.removed = self._remove_stale()
+        except ConfigError:
+            self.release()
+            raise
         if self.removed:
             log.debug("removed %d file(s) an earlier run left in %s: %s", len(self.removed), path,
                       ", ".join(self.removed))
@@ -81,8 +97,38 @@ class RunFolder:
         try:
             self._write("running", [])
         except OSError as err:
+            self.release()
             self._undo_mkdir()
             raise ConfigError(f"cannot write into {path}: {_why(err)}", where=self.where) from None
+
+    def _lock(self) -> None:
+        """Take the folder's advisory lock, or refuse: another ergosim run or merge is writing into it."""
+        self._fd = os.open(self.path, os.O_RDONLY)
+        try:
+            fcntl.flock(self._fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            os.close(self._fd)
+            self._fd = None
+            raise ConfigError(f"another ergosim run is writing into {self.path}; wait for it to end or give "
+                              "another folder", where=self.where) from None
+
+    def release(self) -> None:
+        """Give the folder's lock back (at the end of the run; :meth:`finish` and :meth:`discard` do)."""
+        fd, self._fd = getattr(self, "_fd", None), None
+        if fd is not None:
+            with contextlib.suppress(OSError):
+                fcntl.flock(fd, fcntl.LOCK_UN)
+            os.close(fd)
+
+    def _check_names(self) -> None:
+        """Every name the run writes is free or a regular file (a directory or a FIFO there would stop the
+        run only once it has simulated)."""
+        for entry in self.path.iterdir():
+            if any(fnmatch.fnmatch(entry.name, p) for p in OUTPUT_PATTERNS) and not (
+                    entry.is_file() and not entry.is_symlink()):
+                what = "a directory" if entry.is_dir() else "not a regular file"
+                raise ConfigError(f"{entry} is {what}, in the way of an output of the run; move it or give "
+                                  "another folder", where=self.where)
 
     def _remove_stale(self) -> list[str]:
         names = set()
@@ -119,17 +165,23 @@ class RunFolder:
             "config": self.config,
         })
 
-    def finish(self, status: str, reason: str = "") -> None:
-        """Rewrite the manifest with the final ``status`` and the files now in the folder of this run."""
+    def finish(self, status: str, reason: str = "", release: bool = True) -> None:
+        """Rewrite the manifest with the final ``status`` and the files now in the folder of this run, and
+        give the lock back (``release=False``: keep it, the status may be written again)."""
         if status not in RUN_STATUSES:
             raise ValueError(f"unknown run status {status!r}")
         files = [e.name for e in self.path.iterdir()
                  if e.is_file() and any(fnmatch.fnmatch(e.name, p) for p in OUTPUT_PATTERNS)]
-        self._write(status, files, reason)
+        try:
+            self._write(status, files, reason)
+        finally:
+            if release:
+                self.release()
 
     def discard(self) -> None:
         """Undo :meth:`claim` when the run failed before it wrote any result: remove the manifest and the
         directories this run created, so an early error leaves nothing behind."""
+        self.release()
         with contextlib.suppress(FileNotFoundError):
             (self.path / MANIFEST).unlink()
         self._undo_mkdir()

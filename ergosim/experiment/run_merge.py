@@ -88,10 +88,19 @@ def _check_same(shards: Sequence[Shard]) -> None:
                 raise ConfigError(f"{key} is {s.header[key]!r} here but {first.header[key]!r} in "
                                   f"{first.path}: only shards of one run merge", where=str(s.path))
         a, b = first.header["config"], s.header["config"]
+        ours, theirs = a.get("overrides") or {}, b.get("overrides") or {}
+        for key in sorted(set(ours) | set(theirs)):
+            if ours.get(key) != theirs.get(key):
+                raise ConfigError(f"run with {_said(key, theirs)} here but {_said(key, ours)} in "
+                                  f"{first.path}: only shards of one run merge", where=str(s.path))
         for key in sorted(set(a) | set(b)):
             if a.get(key) != b.get(key):
                 raise ConfigError(f"config {key} is {b.get(key)!r} here but {a.get(key)!r} in {first.path}: "
                                   "only shards of one run merge", where=str(s.path))
+
+
+def _said(key: str, overrides: dict) -> str:
+    return f"--set {key}={overrides[key]}" if key in overrides else f"no --set {key}"
 
 
 def _joined_range(shards: Sequence[Shard]) -> range:

@@ -15,8 +15,8 @@ from ergosim.ergonomics.features import feature as feature_spec
 from ergosim.ergonomics.kwear import KWearParams, kwear_trajectory
 from ergosim.ergonomics.risk_index import KWearIndex
 from ergosim.errors import ConfigError
+from ergosim.experiment.robot_refusals import robot_refusals
 from ergosim.experiment.scenario import Scenario
-from ergosim.experiment.scenario_check import robot_refusals
 from ergosim.posture import KWEAR_JOINTS
 from ergosim.scenes import Workcell, build_cell
 from ergosim.twin.allocator import Allocator
@@ -72,7 +72,7 @@ class Rig:
     graph: object
     refused: frozenset = frozenset()
     """(action, robot) pairs a robot of the cell cannot do
-    (:func:`~ergosim.experiment.scenario_check.robot_refusals`)."""
+    (:func:`~ergosim.experiment.robot_refusals.robot_refusals`)."""
 
     @property
     def robot(self) -> RobotTrack | None:

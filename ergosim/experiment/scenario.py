@@ -81,7 +81,9 @@ def scenario_info(name: str) -> dict[str, Any]:
 class Scenario:
     """A resolved scenario. ``cell_overrides``: workcell overrides (dotted path or alias -> value, as the
     user gave them) on top of ``cell_doc`` for every subject; ``cell_resolved``: ``cell_doc`` with them
-    applied, converted and checked once, when they were set (None without overrides)."""
+    applied, converted and checked once, when they were set (None without overrides). ``overrides``: every
+    ``--set`` applied, as given (``run.json`` and the subject records keep them, and ``ergosim merge``
+    refuses shards whose overrides differ)."""
 
     name: str
     source: str
@@ -92,6 +94,7 @@ class Scenario:
     cell_source: str
     cell_overrides: Mapping[str, Any] = dataclasses.field(default_factory=dict)
     cell_resolved: Mapping[str, Any] | None = None
+    overrides: Mapping[str, str] = dataclasses.field(default_factory=dict)
 
     def task(self) -> AndOrGraph:
         return task_from_dict(dict(self.task_doc), source=self.task_source)
@@ -133,10 +136,12 @@ class Scenario:
         own = groups["protocol"]
         protocol = apply_overrides(new.protocol, own, where=where) if own else new.protocol
         protocol.validate(where=where)
+        given = {**dict(new.overrides), **{k: _said(v) for k, v in overrides.items()}}
         cell = {**dict(new.cell_overrides), **groups["cell"]}
         resolved = apply_cell_overrides(new.cell_doc, cell, where=f"{new.cell_source} (overrides)") \
             if cell else None
-        new = dataclasses.replace(new, protocol=protocol, cell_overrides=cell, cell_resolved=resolved)
+        new = dataclasses.replace(new, protocol=protocol, overrides=given, cell_overrides=cell,
+                                  cell_resolved=resolved)
         if new is not self and (groups["cell"] or groups["task"] or groups["refs"] or own):
             from ergosim.experiment.scenario_check import check_scenario  # noqa: PLC0415
 
@@ -186,15 +191,24 @@ def _resolve_task(value: Any, base: Path, where: str) -> tuple[dict[str, Any], s
                           where=f"{where}: task")
     if value in BUNDLED_TASKS:
         source = bundled_task_source(value)
-        return tomllib.loads(bundled_task_text(value)), source, Path(source).stem
+        doc = tomllib.loads(bundled_task_text(value))
+        return doc, source, _task_name(doc, source)
     path = (base / value) if not Path(value).is_absolute() else Path(value)
     if not path.is_file():
         raise ConfigError(f"no such task file {str(path)!r} (nor a bundled task: {', '.join(BUNDLED_TASKS)})",
                           where=f"{where}: task")
     try:
-        return read_toml(path, what="task file"), str(path), path.stem
+        doc = read_toml(path, what="task file")
     except ConfigError as err:
         raise TaskFileError(err.what, where=err.where) from None
+    return doc, str(path), _task_name(doc, str(path))
+
+
+def _task_name(doc: Mapping[str, Any], source: str) -> str:
+    """The task's label (``config.task``): its ``name``, as the task reader takes it (default: the file's
+    stem)."""
+    name = doc.get("name")
+    return name if isinstance(name, str) and name else Path(source).stem
 
 
 def _resolve_cell(value: Any, base: Path, where: str) -> tuple[dict[str, Any], str]:

@@ -2,11 +2,13 @@
 
 :func:`check_scenario` needs no kinematics: every action of the task has a physical action in the cell,
 every physical action moves a part of the task, every agent has a body (the worker, or a robot of that
-name), and no action is left to robots whose grippers cannot take its part. :func:`robot_refusals` holds
-each robot to its contract (:mod:`ergosim.robot.capability`): the gripper's opening, the payload against
-the mass carried, and its reach (inverse kinematics once per action); an action a robot cannot do is taken
-from it for the whole run, in words. :func:`check_reachability` refuses the run before it starts when an
-action is left to nobody, or a robot can do none of its actions, naming the agent and the part.
+name), and no robot is allowed an action whose part its gripper cannot take. A robot's contract
+(:mod:`ergosim.experiment.robot_refusals`: the gripper's opening, the payload against the mass carried,
+its reach) takes an action it cannot do from it for the whole run, in words.
+:func:`check_reachability` follows the task's plan with every part where the earlier actions leave it, and
+plans each robot action's whole skill (reach, carry, insertion, way out) there: an action that no allowed
+agent can do, or a robot that can do none of its actions, refuses the run before it starts, naming the
+agent, the part and the point.
 """
 
 from __future__ import annotations
@@ -16,13 +18,10 @@ import numpy as np
 
 from ergosim import quat
 from ergosim.errors import ConfigError
+from ergosim.experiment.robot_refusals import robot_refusals
 from ergosim.planner import AndOrGraph
-from ergosim.robot.capability import refusal
-from ergosim.robot.ik import solve_ik
-from ergosim.robot.kinematics import ArmKinematics
 from ergosim.robot.robot_model import get_robot
 from ergosim.scenes import CellSpec
-from ergosim.scenes.park import HANDOVER_CLEARANCE, HEAD_AND_CHEST, clearance_to, robot_geoms
 
 __all__ = ["check_scenario", "robot_refusals", "check_reachability", "precheck"]
 
@@ -89,209 +88,164 @@ def precheck(scenario) -> list[str]:
     return check_reachability(scenario, scenario.task(), build_cell(scenario.cell()))
 
 
-def _start_positions(task: AndOrGraph, cell) -> list[tuple[str, np.ndarray]]:
-    """(action, where its part lies when the action starts) [m, world], in an order the task allows (its
-    optimal plan with the file's costs): a part is where the last earlier action put it, a seated part
-    where its host is."""
-    return [(action, start) for action, start, _ in _plan_points(task, cell)]
+Pose = tuple[np.ndarray, np.ndarray]
+"""A world pose: position (3,) [m] and rotation matrix (3, 3)."""
 
 
-def _plan_points(task: AndOrGraph, cell) -> list[tuple[str, np.ndarray, np.ndarray]]:
-    """(action, where its part lies when it starts, where the action takes it) [m, world] in the task's
-    plan order: a placed part is at its target site, a seated one where its host is; a slot's site moves
-    with its host (its offset turned with the host)."""
-    slots = cell.config.slots()
-    pose = {p: cell.body_pose(p) for p in cell.parts}  # (pos, quat wxyz), as laid out
-    start_pose = dict(pose)
-    host: dict[str, str] = {}
+def _rot(q: np.ndarray) -> np.ndarray:
+    return quat.to_mat(np.asarray(q, dtype=float))
 
-    def root(part: str) -> str:
-        while part in host:
-            part = host[part]
-        return part
+
+class _Start:
+    """The built cell's poses before anything moves: every part's and every action target's (world)."""
+
+    def __init__(self, cell) -> None:
+        self.slots = cell.config.slots()
+        self.parts = {p: (cell.body_pose(p)[0], _rot(cell.body_pose(p)[1])) for p in cell.parts}
+        self.sites = {g.target: (cell.site_pose(g.target)[0], _rot(cell.site_pose(g.target)[1]))
+                      for g in cell.actions.values()}
+        self.targets = {a.label: a.target for a in cell.config.actions}
+
+    def target(self, geom, state: dict[str, Pose]) -> Pose:
+        """Where ``geom``'s part ends with the parts at ``state``: a slot moves with its host."""
+        sp, sr = self.sites[geom.target]
+        slot = self.slots.get(self.targets[geom.action])
+        if slot is None:
+            return sp, sr
+        (h0, r0), (h1, r1) = self.parts[slot.host], state[slot.host]
+        return h1 + r1 @ r0.T @ (sp - h0), r1 @ r0.T @ sr
+
+
+def _action_states(task: AndOrGraph, cell, start: _Start
+                   ) -> list[tuple[str, dict[str, Pose], tuple[str, ...]]]:
+    """(action, every part's world pose when the action starts, the parts seated then), in an order the
+    task allows (its optimal plan with the file's costs). A placed, removed or handed-over part lies at its
+    target with the target's pose; a seated part sits in its slot and moves with its host (the slot's site
+    carries the seated pose), so a slot's target is read where earlier actions moved its host, not where
+    the host starts."""
+    own = dict(start.parts)  # each part's pose where it is free
+    seated: dict[str, tuple[str, Pose]] = {}  # part -> (host, its pose in the host's frame)
+
+    def world(part: str) -> Pose:
+        if part not in seated:
+            return own[part]
+        host, (p, r) = seated[part]
+        hp, hr = world(host)
+        return hp + hr @ p, hr @ r
 
     out = []
     for step in task.plan().steps:
         geom = cell.actions[step.action]
-        start = pose[root(geom.part)][0]
+        out.append((step.action, {p: world(p) for p in cell.parts}, tuple(seated)))
         if geom.seats:
-            holder = slots[cell.config.action(step.action).target].host
-            p0, q0 = start_pose[holder]
-            p1, q1 = pose[holder]
-            offset = quat.to_mat(q1) @ quat.to_mat(q0).T @ (cell.site_pose(geom.target)[0] - p0)
-            end = p1 + offset
-            host[geom.part] = holder
+            host = start.slots[start.targets[step.action]].host
+            (hp, hr), (sp, sr) = start.parts[host], start.sites[geom.target]
+            seated[geom.part] = (host, (hr.T @ (sp - hp), hr.T @ sr))
         else:
-            end = cell.site_pose(geom.target)[0]
-            pose[geom.part] = cell.site_pose(geom.target)
-        out.append((step.action, start, end))
+            seated.pop(geom.part, None)
+            own[geom.part] = start.sites[geom.target]
     return out
 
 
-def _carried(task: AndOrGraph, cell) -> dict[str, float]:
-    """action -> the mass [kg] it moves: its part, with every part seated in it by the actions before it
-    in the task's plan when the action moves an assembly (the compiled model's body masses)."""
-    slots = cell.config.slots()
-    inside: dict[str, set[str]] = {p: {p} for p in cell.parts}
-    out = {}
-    for step in task.plan().steps:
-        geom = cell.actions[step.action]
-        bodies = inside[geom.part] if geom.moves_assembly else {geom.part}
-        out[step.action] = float(sum(cell.model.body_mass[cell.model.body(b).id] for b in bodies))
-        if geom.seats:
-            host = slots[cell.config.action(step.action).target].host
-            for group in inside.values():
-                if host in group:
-                    group.update(inside[geom.part])
-    return out
+def _lay_parts(cell, state: dict[str, Pose], seated: tuple[str, ...]) -> None:
+    """Put every part at its pose in ``state`` and weld the ``seated`` ones into their slots (kinematics
+    only: nothing is stepped), so a robot grasps an assembly the way it would then."""
+    model, data = cell.model, cell.data
+    for part, (pos, rot) in state.items():
+        adr = model.jnt_qposadr[model.body_jntadr[model.body(part).id]]
+        data.qpos[adr:adr + 3], data.qpos[adr + 3:adr + 7] = pos, quat.from_mat(rot)
+    mujoco.mj_forward(model, data)
+    data.eq_active[:] = 0
+    for part in seated:
+        cell.seat(part)
 
 
-def robot_refusals(task: AndOrGraph, cell) -> dict[tuple[str, str], str]:
-    """(action, robot) -> why the robot cannot do an action the task allows it, in words: its gripper
-    against the part's width, its payload against the mass carried, its reach (the datasheet's, to the
-    flange, plus the gripper) against the distance from its shoulder to the part and to the target. Empty
-    when every robot can do all its actions."""
-    allowed: dict[str, set[str]] = {}
-    for op in task.operations:
-        allowed.setdefault(op.action, set()).update(op.agents)
-    mass = _carried(task, cell)
-    points = {a: (s, e) for a, s, e in _plan_points(task, cell)}
-    out = {}
-    for action, agents in allowed.items():
-        geom = cell.actions[action]
-        start = points[action][0]
-        end = cell.site_pose(geom.handover)[0] if geom.handover else points[action][1]
-        for agent in sorted(agents & set(cell.robots)):
-            handle = cell.robot(agent)
-            shoulder, radius = _reach_sphere(cell, handle)
-            far = [name for name, p in ((geom.part, start), (geom.handover or geom.target, end))
-                   if np.linalg.norm(np.asarray(p) - shoulder) > radius]
-            width = cell.grip_width(cell.grasp_body(geom.part))
-            why = refusal(handle.robot, action, geom.part, width, mass.get(action), not far,
-                          far[0] if far else "")
-            if why is None and geom.handover and _has_worker(cell):
-                clear = _handover_clearance(cell, handle, geom)
-                if clear is None:
-                    why = refusal(handle.robot, action, geom.part, width, None, False, geom.handover)
-                elif clear < HANDOVER_CLEARANCE:
-                    why = (f"{handle.robot.name} cannot do {action}: holding {geom.part} out at "
-                           f"{geom.handover} it would come {clear:.2f} m from the worker's head, neck or "
-                           f"chest (at least {HANDOVER_CLEARANCE:g} m)")
-            if why is not None:
-                out[(action, agent)] = why
-    return out
-
-
-def _handover_clearance(cell, handle, geom) -> float | None:
-    """The robot's clearance [m] from the worker's head, neck and chest (at the worker's rest posture)
-    while it holds ``geom``'s part out at its hand-over pose, grasped as laid out (top-down at its grasp
-    site); None if no IK solution holds it there."""
-    m, d = cell.model, cell.data
-    kin = ArmKinematics(handle.robot)
-    base_p, base_q = cell.robot_base_pose(handle.name)
-    base_r = quat.to_mat(base_q)
-    part_p, part_q = cell.body_pose(geom.part)
-    site = m.site(cell.grasp_site(geom.part)).id
-    rel_p = quat.to_mat(part_q).T @ (d.site_xpos[site] - part_p)
-    rel_r = quat.to_mat(part_q).T @ d.site_xmat[site].reshape(3, 3)
-    to_p, to_q = cell.site_pose(geom.handover)
-    tcp_p, tcp_r = to_p + quat.to_mat(to_q) @ rel_p, quat.to_mat(to_q) @ rel_r
-    for flip in (np.eye(3), np.diag([-1.0, -1.0, 1.0])):  # the grasp turned 180 deg about the TCP z
-        res = solve_ik(kin, base_r.T @ (tcp_p - base_p), base_r.T @ tcp_r @ flip, kin.ready, restarts=4,
-                       rng=np.random.default_rng(0))
-        if res.ok:
-            saved = d.qpos.copy()
-            d.qpos[handle.arm_qpos] = res.q
-            mujoco.mj_kinematics(m, d)
-            regions = [m.geom(n).id for n in HEAD_AND_CHEST]
-            clear = clearance_to(m, d, robot_geoms(m, handle.base), regions)
-            d.qpos[:] = saved
-            mujoco.mj_kinematics(m, d)
-            return float(clear)
-    return None
-
-
-def _has_worker(cell) -> bool:
-    return all(mujoco.mj_name2id(cell.model, mujoco.mjtObj.mjOBJ_GEOM, n) >= 0 for n in HEAD_AND_CHEST)
-
-
-def _reach_sphere(cell, handle) -> tuple[np.ndarray, float]:
-    """The robot's shoulder (its first moving link, world [m]) and the radius [m] its TCP reaches: the
-    datasheet reach to the flange plus the flange-to-TCP length of its gripper."""
-    kin = ArmKinematics(handle.robot)
-    flange = kin.fk(kin.home, handle.robot.arm_joints[-1])[0]  # the last joint's frame, at the wrist
-    tcp = kin.fk(kin.home)[0]
-    shoulder = cell.body_pose(handle.prefix + handle.robot.mount.link)[0]
-    return shoulder, handle.robot.reach + float(np.linalg.norm(tcp - flange))
-
-
-def _reach_table(task: AndOrGraph, cell) -> tuple[dict[str, list[str]], dict[tuple[str, str], str]]:
-    """Which allowed agents reach each action (action -> agents), and what each robot misses ((action,
-    robot) -> the pose, in words)."""
-    robots = set(cell.robots)
-    allowed: dict[str, set[str]] = {}
-    for op in task.operations:
-        allowed.setdefault(op.action, set()).update(op.agents)
-    human = next(a.name for a in task.agents if a.kind == "human")
-    kins = {r: ArmKinematics(cell.robot(r).robot, cell.robot_home(r)) for r in robots}
-    reach_human = _human_reach(cell)
-    able: dict[str, list[str]] = {}
-    missed: dict[tuple[str, str], str] = {}
-    for action, part_pos in _start_positions(task, cell):
-        geom = cell.actions[action]
-        target = cell.site_pose(geom.target)[0]
-        where = geom.handover or geom.target
-        end = cell.site_pose(geom.handover)[0] if geom.handover else target
-        points = [(geom.part, part_pos), (where, end)]
-        able[action] = []
-        for agent in sorted(allowed.get(action, ())):
-            if agent == human:
-                if all(reach_human(p) for p in (part_pos, target)):
-                    able[action].append(agent)
-            elif agent in robots:
-                miss = [name for name, p in points if not _robot_reaches(cell, agent, kins[agent], p)]
-                if miss:
-                    missed[(action, agent)] = miss[0]
-                else:
-                    able[action].append(agent)
-    return able, missed
+def _robot_turn(start: _Start, geom, state: dict[str, Pose], tolerance_deg: float) -> str | None:
+    """Why a robot cannot seat ``geom``'s part as the slot needs, or None. The robot takes a part from
+    above and can turn it only about the vertical (its hand stays pointing down): a seat that needs the
+    part tilted (a part lying down that goes in upright, or standing on end that goes in sideways) is
+    out of its reach however the arm moves. A robot that hands the part over leaves the seating to the
+    worker."""
+    if not geom.seats or geom.handover:  # at a handover the worker seats the part
+        return None
+    rot_now = state[geom.part][1]
+    rot_seat = start.target(geom, state)[1]
+    tilt = float(np.degrees(np.arccos(np.clip((rot_seat @ rot_now.T)[2, 2], -1.0, 1.0))))
+    if tilt <= tolerance_deg:
+        return None
+    return (f"{geom.part} must turn {tilt:.0f} deg about a horizontal axis to go into "
+            f"{start.targets[geom.action]}, and the robot takes a part from above and turns it only about "
+            "the vertical: give the operation agents = [\"human\"], or lay the part as it goes in")
 
 
 def check_reachability(scenario, task: AndOrGraph, cell) -> list[str]:
-    """IK pre-check in the built workcell ``cell``: each robot-allowed action's grasp and target poses for
-    the robot, each worker-allowed action's part and target for a nominal worker of the cell's stature,
-    with every part where the earlier actions leave it. An action no allowed agent can do (for a robot: its
-    reach, gripper and payload, :func:`robot_refusals`), or a robot that can do none of its actions, is a
-    ConfigError naming the agent, the part and the action. Returns the robots' refusals, one line each
-    ("ur5 cannot do g4: ...; the worker does it")."""
+    """The check before any physics, in the built workcell ``cell``: each action with every part where the
+    earlier actions leave it (:func:`_action_states`). A robot allowed an action plans its whole skill from
+    home (reach, grasp, the carry at the cell's carry height, the approach or insertion along the slot's
+    axis, the way out: every waypoint needs an IK solution) and must not need to tilt the part
+    (:func:`_robot_turn`); the worker's part and target must be in reach of a nominal worker of the cell's
+    stature (:func:`_human_reach`). An action no allowed agent can do, or a robot that can do none of its
+    actions, is a ConfigError naming the agent, the part, the action and why (for the robot, the point with
+    no IK solution). A robot's contract (:func:`robot_refusals`: gripper, payload, reach, hand-over
+    clearance) comes first: an action it refuses is the worker's for the whole run. Returns those refusals,
+    one line each ("ur5 cannot do g4: ...; the worker does it"), and a parking the cell could not keep."""
+    from ergosim.twin.robot_track import RobotTrack  # noqa: PLC0415
+
     src = cell.config.source
     robots = set(cell.robots)
     allowed: dict[str, set[str]] = {}
     for op in task.operations:
         allowed.setdefault(op.action, set()).update(op.agents)
     human = next(a.name for a in task.agents if a.kind == "human")
-    able, missed = _reach_table(task, cell)
+    cfg = scenario.protocol
+    tracks = {r: RobotTrack(cell, cfg.robot.ee_speed, cfg.robot.transit_speed, robot=r) for r in robots}
+    reach_human = _human_reach(cell)
+    reached: dict[str, int] = {r: 0 for r in robots}
+    tried: dict[str, int] = {r: 0 for r in robots}
+    start = _Start(cell)
     refused = robot_refusals(task, cell)
-    positions = dict(_start_positions(task, cell))
-    for action, agents in able.items():
-        if not [a for a in agents if (action, a) not in refused]:
+    try:
+        for action, state, seated in _action_states(task, cell, start):
             geom = cell.actions[action]
-            part_pos = positions[action]
-            point = cell.site_pose(geom.handover or geom.target)[0]
-            who = " or ".join(sorted(allowed.get(action, ()))) or "no agent"
-            if any((action, r) in refused for r in robots):
-                why = "; ".join(refused[(action, r)] for r in sorted(robots) if (action, r) in refused)
-                raise ConfigError(f"no agent can do {action}: {why}", where=f"{src}: actions.{action}")
-            raise ConfigError(f"{who} cannot reach {geom.part} for {action} (from "
-                              f"{np.round(part_pos, 2).tolist()} to {geom.handover or geom.target} at "
-                              f"{np.round(point, 2).tolist()}): the run would fail",
-                              where=f"{src}: actions.{action}")
+            part_pos = state[geom.part][0]
+            target = start.target(geom, state)[0]
+            able, why = [], {}
+            agents = sorted(allowed.get(action, ()))
+            if any(a in robots for a in agents):
+                _lay_parts(cell, state, seated)
+            for agent in agents:
+                if agent == human:
+                    if all(reach_human(p) for p in (part_pos, target)):
+                        able.append(agent)
+                    else:
+                        why[agent] = "out of the worker's reach"
+                elif agent in robots:
+                    tried[agent] += 1
+                    reason = (_robot_turn(start, geom, state, cell.config.seat_tolerance_deg)
+                              or tracks[agent].skill_for(geom).plan_error())
+                    reached[agent] += reason is None
+                    reason = refused.get((action, agent)) or reason  # the contract takes it for the run
+                    if reason is None:
+                        able.append(agent)
+                    else:
+                        why[agent] = reason
+            if not able:
+                if any((action, r) in refused for r in robots):
+                    said = "; ".join(refused[(action, r)] for r in sorted(robots) if (action, r) in refused)
+                    raise ConfigError(f"no agent can do {action}: {said}", where=f"{src}: actions.{action}")
+                who = " or ".join(agents) or "no agent"
+                said = "; ".join(f"{a}: {w}" for a, w in why.items())
+                goal = f"{geom.handover or start.targets[action]} at {np.round(target, 2).tolist()}"
+                raise ConfigError(f"{who} cannot reach {geom.part} for {action} (from "
+                                  f"{np.round(part_pos, 2).tolist()} to {goal}; {said}): the run would fail",
+                                  where=f"{src}: actions.{action}")
+    finally:
+        cell.reset()
     for robot in robots:
-        tried = [a for a, agents in allowed.items() if robot in agents]
-        if tried and all((a, robot) in missed for a in tried):
+        if tried[robot] and not reached[robot]:
             base = cell.robot_base_pose(robot)[0]
             raise ConfigError(f"robot {robot!r} at {np.round(base, 2).tolist()} reaches none of the "
-                              f"{len(tried)} actions it may do; move its base or take it out of the task",
+                              f"{tried[robot]} actions it may do; move its base or take it out of the task",
                               where=f"{src}: robots.{robot}.base")
     lines = [f"{why}; the {human} does it" if human in allowed[action] else why
              for (action, _), why in sorted(refused.items())]
@@ -303,28 +257,27 @@ def check_reachability(scenario, task: AndOrGraph, cell) -> list[str]:
     return lines
 
 
-def _robot_reaches(cell, robot: str, kin, point: np.ndarray) -> bool:
-    """A top-down TCP pose of ``robot`` 5 cm above ``point`` (world) within 1 cm of a solution."""
-    base_p, base_q = cell.robot_base_pose(robot)
-    r = quat.to_mat(base_q)
-    local = r.T @ (np.asarray(point) + np.array([0, 0, 0.05]) - base_p)
-    down = r.T @ np.diag([1.0, -1.0, -1.0])
-    res = solve_ik(kin, local, down, kin.robot.home, restarts=4, rng=np.random.default_rng(0))
-    return bool(res.ok or res.pos_error < 0.01)
-
-
 def _human_reach(cell):
-    """A reach test for the cell's worker: within the arm's length plus a trunk lean of either shoulder."""
+    """A reach test for the cell's worker: within the arm's length of either shoulder, plus a trunk lean
+    for a point level with or below the shoulder."""
     from ergosim.human.model import SHOULDER_BODIES  # noqa: PLC0415
 
     stature = cell.config.worker.stature
     shoulders = [cell.body_pose(b)[0] for b in SHOULDER_BODIES.values()]
     # Arm length, shoulder to grip centre, ~0.36 of stature (Drillis & Contini segment proportions); bending
     # and twisting the trunk adds up to ~0.25 of stature of reach (assumed lean allowance, generous: the
-    # worker's IK decides the rest at run time).
-    limit = (0.36 + 0.25) * stature
+    # worker's IK decides the rest at run time). A lean takes the shoulder forward, sideways and down, not
+    # up: the allowance shrinks with the point's elevation above the shoulder and is gone straight
+    # overhead, where the reach is the arm's (overhead grip reach ~1.2 of stature: shoulder height 0.818
+    # + arm 0.36, Drillis & Contini).
+    arm, lean = 0.36 * stature, 0.25 * stature
 
     def reach(point: np.ndarray) -> bool:
-        return bool(min(np.linalg.norm(np.asarray(point) - s) for s in shoulders) <= limit)
+        for s in shoulders:
+            d = np.asarray(point) - s
+            dist = float(np.linalg.norm(d))
+            if dist <= arm + lean * (1.0 - max(0.0, d[2]) / max(dist, 1e-9)):
+                return True
+        return False
 
     return reach

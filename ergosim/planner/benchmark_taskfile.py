@@ -1,9 +1,17 @@
-"""Task-file reading benchmark: the reader must be linear in the number of operations.
+"""Task-file reading benchmark: the reader must be linear in the file's size.
 
-A balanced binary assembly of ``n + 1`` parts has ``n`` explicit operations; its TOML text is generated,
-then parsed and built into an :class:`~ergosim.planner.graph.AndOrGraph` ``repeats`` times. The median
-time per size, and the ratio of consecutive sizes' times over the ratio of their sizes (1 for a linear
-reader, 2 for a quadratic one at doubling sizes), are what ``scripts/bench_taskfile.py`` prints.
+Two shapes of explicit-operation task files are generated, then parsed and built into an
+:class:`~ergosim.planner.graph.AndOrGraph` ``repeats`` times each:
+
+- ``chain``: the operations of ``sequential:N`` written out (every cut of every interval of a chain of N
+  parts, C(N+1, 3) operations; N = 50, 64, 80 give the 62k, 131k and 265k lines of issue 27's report,
+  which took 3.8, 13.5 and 57 s);
+- ``balanced``: a balanced binary assembly of ``n + 1`` parts, ``n`` operations, up to the part limit
+  (:data:`~ergosim.planner.limits.MAX_PARTS`).
+
+A row gives the median wall time and the median CPU time of this process (which other work on a shared
+machine does not inflate), and the growth: the ratio of consecutive rows' CPU times over the ratio of their
+sizes in bytes (1 for a reader linear in the file's size, more for a superlinear one).
 """
 
 from __future__ import annotations
@@ -14,16 +22,24 @@ import time
 
 from ergosim.planner.taskfile import parse_task
 
-__all__ = ["TaskfileRow", "balanced_task_text", "run_taskfile_benchmark"]
+__all__ = ["TaskfileRow", "balanced_task_text", "chain_task_text", "run_taskfile_benchmark"]
+
+CHAINS = (40, 50, 64, 80)
+BALANCED = (500, 1000, 2000, 4000)
 
 
 @dataclasses.dataclass(frozen=True)
 class TaskfileRow:
+    shape: str
     operations: int
+    lines: int
+    megabytes: float
     median_ms: float
     """Median wall time of parse + build [ms]."""
+    cpu_ms: float
+    """Median CPU time of this process for parse + build [ms]."""
     growth: float | None
-    """(time / previous time) / (size / previous size); None for the first row."""
+    """(CPU time / previous CPU time) / (bytes / previous bytes) within the shape; None for its first row."""
 
 
 def balanced_task_text(n: int) -> str:
@@ -34,28 +50,46 @@ def balanced_task_text(n: int) -> str:
         ops += [(groups[i], groups[i + 1]) for i in range(0, len(groups) - 1, 2)]
         groups = [groups[i] + groups[i + 1] for i in range(0, len(groups) - 1, 2)] + (
             [groups[-1]] if len(groups) % 2 else [])
+    return _text(parts, [(f"o{k}", (a, b)) for k, (a, b) in enumerate(ops)])
+
+
+def chain_task_text(n: int) -> str:
+    """The TOML text of ``sequential:n``'s operations written out as explicit operations."""
+    from ergosim.planner.generators import generate_task  # noqa: PLC0415
+
+    graph = generate_task(f"sequential:{n}", agents=2)
+    return _text(list(graph.parts), [(op.name, op.children) for op in graph.operations])
+
+
+def _text(parts, ops) -> str:
     lines = ["parts = [" + ",".join(f'"{p}"' for p in parts) + "]", "[agents.human]", 'kind = "human"']
-    for k, (a, b) in enumerate(ops):
-        left, right = (",".join(f'"{p}"' for p in side) for side in (a, b))
-        lines += ["[[operations]]", f'name = "o{k}"', f"joins = [[{left}], [{right}]]"]
+    for name, children in ops:
+        joins = ", ".join("[" + ",".join(f'"{p}"' for p in child) + "]" for child in children)
+        lines += ["[[operations]]", f'name = "{name}"', f"joins = [{joins}]"]
     return "\n".join(lines) + "\n"
 
 
-def run_taskfile_benchmark(sizes: tuple[int, ...] = (1250, 2500, 5000, 10000),
-                           repeats: int = 5) -> list[TaskfileRow]:
+def run_taskfile_benchmark(chains: tuple[int, ...] = CHAINS, balanced: tuple[int, ...] = BALANCED,
+                           repeats: int = 3) -> list[TaskfileRow]:
     rows: list[TaskfileRow] = []
-    for n in sizes:
-        text = balanced_task_text(n)
-        times = []
-        for _ in range(repeats):
-            t0 = time.perf_counter()
-            graph = parse_task(text)
-            times.append(time.perf_counter() - t0)
-        assert len(graph.operations) == n
-        med = statistics.median(times) * 1e3
-        growth = None
-        if rows:
-            prev = rows[-1]
-            growth = (med / prev.median_ms) / (n / prev.operations)
-        rows.append(TaskfileRow(n, med, growth))
+    shapes = (("chain", chains, chain_task_text), ("balanced", balanced, balanced_task_text))
+    for shape, sizes, make in shapes:
+        first = True
+        for n in sizes:
+            text = make(n)
+            wall, cpu = [], []
+            for _ in range(repeats):
+                t0, c0 = time.perf_counter(), time.process_time()
+                graph = parse_task(text)
+                wall.append(time.perf_counter() - t0)
+                cpu.append(time.process_time() - c0)
+            med, med_cpu = statistics.median(wall) * 1e3, statistics.median(cpu) * 1e3
+            size = len(text.encode()) / 1e6
+            growth = None
+            if not first:
+                prev = rows[-1]
+                growth = (med_cpu / prev.cpu_ms) / (size / prev.megabytes)
+            rows.append(TaskfileRow(shape, len(graph.operations), text.count("\n"), size, med, med_cpu,
+                                    growth))
+            first = False
     return rows

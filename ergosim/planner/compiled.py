@@ -52,6 +52,7 @@ class CompiledGraph:
         parts, agents, operations, actions, name, source: as given (tuples).
         part_index, agent_index, op_index: name -> index.
         node_masks: per node, its parts as a bit mask (bit i = ``parts[i]``), in topological order.
+        node_indices: per node, its parts' indices, ascending.
         op_father, op_children: per operation, its father node and its child nodes.
         node_ops: per node, the operations that form it (its OR branches).
         root: the full assembly's node; leaves: per part, its node.
@@ -134,7 +135,7 @@ class CompiledGraph:
 
     def node_parts(self, node: int) -> tuple[str, ...]:
         """The part names of ``node``, in part order."""
-        return tuple(self.parts[i] for i in _bits(self.node_masks[node]))
+        return tuple(self.parts[i] for i in self.node_indices[node])
 
     def operation(self, name: str) -> Operation:
         """The operation called ``name``; ConfigError if there is none."""
@@ -233,6 +234,9 @@ def _nodes(g: CompiledGraph) -> dict[str, object]:
     """The nodes reachable from the root through the operations, and each operation's father and children
     as node indices."""
     masks_of = []
+    # each node's part indices, ascending: its sort key, and its parts, without reading bits back out of a
+    # mask as wide as the task (which made a large task file quadratic to read)
+    indices_of: dict[int, tuple[int, ...]] = {}
     structure: dict[frozenset[int], str] = {}
     op_index: dict[str, int] = {}
     for i, op in enumerate(g.operations):
@@ -248,6 +252,9 @@ def _nodes(g: CompiledGraph) -> dict[str, object]:
             )
         structure[key] = op.name
         masks_of.append((father, children))
+        for mask, names in zip((father, *children), (op.father, *op.children), strict=True):
+            if mask not in indices_of:
+                indices_of[mask] = tuple(sorted(g.part_index[p] for p in names))
     root = (1 << len(g.parts)) - 1
     joined = 0
     by_father: dict[int, list[int]] = {}
@@ -281,7 +288,9 @@ def _nodes(g: CompiledGraph) -> dict[str, object]:
                 "a child of any operation on the way to the full assembly",
                 where=g.where(op.name),
             )
-    node_masks = tuple(sorted(reached, key=lambda m: (m.bit_count(), _bits(m))))
+    indices_of[root] = tuple(range(len(g.parts)))
+    indices_of.update({1 << i: (i,) for i in range(len(g.parts))})
+    node_masks = tuple(sorted(reached, key=lambda m: (len(indices_of[m]), indices_of[m])))
     node_of = {m: i for i, m in enumerate(node_masks)}
     op_father = tuple(node_of[f] for f, _ in masks_of)
     node_ops: list[list[int]] = [[] for _ in node_masks]
@@ -290,6 +299,7 @@ def _nodes(g: CompiledGraph) -> dict[str, object]:
     return {
         "op_index": FrozenDict(op_index),
         "node_masks": node_masks,
+        "node_indices": tuple(indices_of[m] for m in node_masks),
         "op_father": op_father,
         "op_children": tuple(tuple(node_of[c] for c in ch) for _, ch in masks_of),
         "node_ops": tuple(tuple(ops) for ops in node_ops),
@@ -323,13 +333,3 @@ def _read_only_layout(layout: Layout) -> Layout:
         for a in (level.children, level.op_of, level.fathers):
             read_only(a)
     return layout
-
-
-def _bits(mask: int) -> tuple[int, ...]:
-    """Indices of the set bits of ``mask``, ascending."""
-    out = []
-    while mask:
-        low = mask & -mask
-        out.append(low.bit_length() - 1)
-        mask ^= low
-    return tuple(out)

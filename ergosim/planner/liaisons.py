@@ -111,25 +111,37 @@ def _connected(mask: int, adj: Sequence[int]) -> bool:
 
 
 def _splits(father: int, adj: Sequence[int]) -> list[int]:
-    """Connected S ∋ first part of ``father`` with a connected, non-empty complement; in search order."""
+    """Connected S ∋ first part of ``father`` with a connected, non-empty complement; in search order (a
+    depth-first growth of S, kept on an explicit stack: a chain of a thousand parts is a thousand levels)."""
     found: list[int] = []
 
-    def grow(s: int, candidates: int, excluded: int) -> None:
+    def enter(s: int) -> None:
         rest = father & ~s
         if rest and _connected(rest, adj):
             found.append(s)
-        while candidates:
-            v = candidates & -candidates
-            candidates ^= v
-            s2 = s | v
-            if excluded and _reach(excluded & -excluded, father & ~s2, adj) & excluded != excluded:
-                excluded |= v
-                continue
-            grow(s2, (candidates | adj[v.bit_length() - 1]) & father & ~s2 & ~excluded, excluded)
-            excluded |= v
 
     first = father & -father
-    grow(first, adj[first.bit_length() - 1] & father, 0)
+    enter(first)
+    # a frame: [S, candidates left, parts excluded from S, the candidate whose branch is open]
+    stack = [[first, adj[first.bit_length() - 1] & father, 0, 0]]
+    while stack:
+        frame = stack[-1]
+        if frame[3]:  # back from the branch that added frame[3]: it stays out of S from now on
+            frame[2] |= frame[3]
+            frame[3] = 0
+        s, candidates, excluded = frame[0], frame[1], frame[2]
+        if not candidates:
+            stack.pop()
+            continue
+        v = candidates & -candidates
+        frame[1] = candidates ^ v
+        s2 = s | v
+        if excluded and _reach(excluded & -excluded, father & ~s2, adj) & excluded != excluded:
+            frame[2] = excluded | v
+            continue
+        frame[3] = v
+        enter(s2)
+        stack.append([s2, (frame[1] | adj[v.bit_length() - 1]) & father & ~s2 & ~excluded, excluded, 0])
     return found
 
 

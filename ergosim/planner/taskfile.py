@@ -17,7 +17,7 @@ from ergosim.errors import InfeasiblePlanError, TaskFileError
 from ergosim.planner.agents import Agent, Operation, check_cost, check_name
 from ergosim.planner.graph import AndOrGraph
 from ergosim.planner.liaisons import Liaison, generate_operations, liaison_groups
-from ergosim.planner.limits import check_operation_count
+from ergosim.planner.limits import check_operation_count, check_part_count
 from ergosim.planner.validation import format_parts
 
 __all__ = ["load_task", "parse_task", "task_from_dict", "MAX_TASK_BYTES"]
@@ -60,6 +60,9 @@ def parse_task(text: str, source: str = "<task>") -> AndOrGraph:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:
         raise TaskFileError(f"invalid TOML: {err}", where=source) from None
+    except RecursionError:  # tomllib parses nested arrays and tables recursively
+        raise TaskFileError("nested too deeply to be a task file (arrays or inline tables inside each other "
+                            "hundreds of levels deep)", where=source) from None
     return _Builder(doc, source).build()
 
 
@@ -141,6 +144,7 @@ class _Builder:
         parts = self.doc.get("parts")
         if not isinstance(parts, list) or not parts:
             raise _fail(f"parts must be a non-empty list of part names, got {parts!r}", self.at("parts"))
+        check_part_count(len(parts), self.at("parts"), TaskFileError)
         seen: set[str] = set()
         for i, part in enumerate(parts):
             problem = check_name(part, "a part name")

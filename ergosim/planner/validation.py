@@ -10,6 +10,7 @@ from collections.abc import Callable, Sequence
 
 from ergosim.errors import TaskFileError
 from ergosim.planner.agents import AGENT_KINDS, Agent, Operation, check_cost, check_name
+from ergosim.planner.limits import check_part_count
 
 __all__ = ["check_parts", "check_agents", "check_operation", "format_parts"]
 
@@ -23,6 +24,7 @@ def check_parts(parts: Sequence[str], where: str) -> dict[str, int]:
     """Validate the part list; return part name -> index."""
     if not parts:
         raise TaskFileError("a task needs at least one part", where=where)
+    check_part_count(len(parts), f"{where} parts", TaskFileError)
     index: dict[str, int] = {}
     for i, part in enumerate(parts):
         problem = check_name(part, "a part name")

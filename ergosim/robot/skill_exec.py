@@ -76,6 +76,16 @@ class Skill(ABC):
     def plan(self) -> sp.SkillProgram:
         """The skill's program from the scene as it is now; changes nothing. Raises PathError."""
 
+    def plan_error(self) -> str | None:
+        """Why this skill cannot be planned from the scene as it is now (where no IK solution exists, in the
+        world frame: reaching, on the carry or on the way out), or None; nothing moves. The check before
+        any physics (:func:`ergosim.experiment.scenario_check.check_reachability`) asks this."""
+        try:
+            self.plan()
+        except PathError as err:
+            return str(err)
+        return None
+
     @abstractmethod
     def _unreachable(self, error: PathError) -> str:
         """The message of a skill that cannot be planned."""

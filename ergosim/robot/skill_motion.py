@@ -112,15 +112,23 @@ class MotionPlanner:
             if way.mode == "joint":
                 res = solve_ik(self.kin, goal.pos, goal.rot, self.kin.ready, seeds=[q, *self._wrist_seeds(q)])
                 if not res.ok:
-                    raise PathError(f"no IK solution at {np.round(goal.pos, 3).tolist()} (base frame), "
+                    raise PathError(f"no IK solution at {np.round(way.pose.pos, 3).tolist()} (world; "
+                                    f"{np.round(goal.pos, 3).tolist()} in the base frame), "
                                     f"{res.pos_error * 1000:.0f} mm and {res.rot_error_deg:.0f} deg short",
                                     res.pos_error)
                 traj = self.joint_move(q, res.q, start.pos[2], goal.pos[2], way.kind)
                 if traj is not None:
                     spans.append((label, len(traj)))
             if traj is None:
-                traj, slow = line_trajectory(self.kin, q, start, goal, self.params.limits, self.dt, way.kind,
-                                             way.slow_first, way.slow_last)
+                try:
+                    traj, slow = line_trajectory(self.kin, q, start, goal, self.params.limits, self.dt,
+                                                 way.kind, way.slow_first, way.slow_last)
+                except PathError as err:  # say where in the world, too
+                    if err.point is None:
+                        raise
+                    world = self.base.to_world(Pose(np.asarray(err.point), np.eye(3))).pos
+                    raise PathError(f"{err}; in the world frame {np.round(world, 3).tolist()}",
+                                    err.pos_error, err.point) from None
                 spans += _runs(np.where(slow, "contact", label))
             rows.append(traj)
             q, start = traj[-1], goal

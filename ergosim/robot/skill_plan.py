@@ -149,12 +149,15 @@ class CarryPlanner:
             pre_grasp = Pose(g.pos + UP * self.params.approach, g.rot)
             reach_z = max(tcp0.pos[2], pre_grasp.pos[2])
             try:
+                stage = "reaching for the grasp"
                 reach = motion.through(q0, [Waypoint(Pose(np.r_[tcp0.pos[:2], reach_z], tcp0.rot)),
                                             Waypoint(pre_grasp, "joint"), Waypoint(g, slow_last=zone)])
+                stage = "on the carry (lift, transit at the carry height, approach)"
                 carry = motion.through(reach.end, way)
+                stage = "on the way out"
                 leave = motion.leave(carry.end, place, goal.approach, goal.contact)
-            except PathError as err:
-                error = err
+            except PathError as err:  # which part of the skill has no IK solution
+                error = PathError(f"{stage}: {err}", err.pos_error, err.point)
                 continue
             steps = reach.steps + carry.steps + leave.steps
             if best is None or steps < best.reach.steps + best.carry.steps + best.leave.steps:

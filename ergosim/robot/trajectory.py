@@ -106,11 +106,13 @@ class Pose(NamedTuple):
 
 
 class PathError(Exception):
-    """Raised inside planning when a segment has no IK solution; the skill turns it into a status."""
+    """Raised inside planning when a segment has no IK solution; the skill turns it into a status.
+    ``point``: where (base frame, (3,) [m]), if known."""
 
-    def __init__(self, message: str, pos_error: float = float("nan")) -> None:
+    def __init__(self, message: str, pos_error: float = float("nan"), point=None) -> None:
         super().__init__(message)
         self.pos_error = pos_error
+        self.point = point
 
 
 class BaseFrame:
@@ -165,14 +167,14 @@ def _line_ik(kin: ArmKinematics, q_start: np.ndarray, start: Pose, goal: Pose, r
         if not res.ok:
             raise PathError(f"no IK solution at {np.round(pos, 3).tolist()} (base frame), "
                             f"{res.pos_error * 1000:.0f} mm and {res.rot_error_deg:.0f} deg short",
-                            res.pos_error)
+                            res.pos_error, pos)
         jump = float(np.max(np.abs(res.q - qs[-1])))
         if jump > limits.max_joint_step:
             if s - done[-1] > shortest * 1.001:
                 todo.append(0.5 * (done[-1] + s))
                 continue
             raise PathError(f"the straight line near {np.round(pos, 3).tolist()} (base frame) needs a "
-                            f"joint flip of {jump:.2f} rad")
+                            f"joint flip of {jump:.2f} rad", point=pos)
         done.append(s)
         qs.append(res.q)
         todo.pop()

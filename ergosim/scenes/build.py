@@ -13,6 +13,7 @@ from collections.abc import Iterator
 import mujoco
 import numpy as np
 
+from ergosim.held_signals import signals_held
 from ergosim.human.mjcf import HOME_POSTURE
 from ergosim.human.mocap import add_mocap_segments
 from ergosim.human.model import HAND_SITES, ROOT_BODY, HumanModel, human_spec
@@ -45,16 +46,21 @@ def receive_name(part: str) -> str:
 
 @contextlib.contextmanager
 def quiet_attach() -> Iterator[None]:
-    """Attach with an empty prefix (names must stay canonical) without MuJoCo's save-related warning."""
+    """Attach with an empty prefix (names must stay canonical) without MuJoCo's save-related warning.
+
+    MuJoCo calls the warning handler, a Python function, from its C++: Ctrl-C and SIGTERM are held
+    meanwhile (:func:`~ergosim.held_signals.signals_held`), since a handler raising inside it would abort
+    the process."""
     previous = mujoco.get_mju_user_warning()
     other: list[str] = []
-    mujoco.set_mju_user_warning(lambda msg: None if "empty prefix" in msg else other.append(msg))
-    try:
-        with warnings.catch_warnings():
-            warnings.filterwarnings("ignore", message="Attaching a spec with an empty prefix")
-            yield
-    finally:
-        mujoco.set_mju_user_warning(previous)
+    with signals_held():
+        mujoco.set_mju_user_warning(lambda msg: None if "empty prefix" in msg else other.append(msg))
+        try:
+            with warnings.catch_warnings():
+                warnings.filterwarnings("ignore", message="Attaching a spec with an empty prefix")
+                yield
+        finally:
+            mujoco.set_mju_user_warning(previous)
     for msg in other:
         warnings.warn(f"MuJoCo: {msg}", RuntimeWarning, stacklevel=3)
 

@@ -44,7 +44,7 @@ from ergosim.scenes.cellspec import (
 )
 
 __all__ = ["read_cell_file", "parse_cell", "apply_cell_overrides", "override_paths", "cell_keys",
-           "MAX_FILE_BYTES"]
+           "MAX_FILE_BYTES", "TURN_TIME_MAX"]
 
 MAX_FILE_BYTES = 4 * 1024 * 1024
 """Largest workcell or scenario file read [bytes]; a cell is a few kB."""
@@ -75,6 +75,9 @@ _PART = {"shape": "str", "size": ("floats", 3), "radius": "float", "length": "fl
          "rpy": ("floats", 3), "insert_axis": "str", "grasp": "str", "slots": "slots", "coupling": "str"}
 _SLOT = {"name": "str", "at": ("floats", 3), "axis": "axis"}
 _TARGET = {"on": "str", "xy": ("floats", 2), "yaw": "float", "part": "str", "pos": ("floats", 3)}
+TURN_TIME_MAX = 600.0
+"""Longest hold-and-turn of a fastening [s] (assumed: ten minutes is no longer one action; the worker's motion
+holds a pose per mocap frame of it)."""
 _ACTION = {"kind": "str", "part": "str", "target": "str", "handover": "str", "turn_time": "float"}
 _VIEW = {"azimuth": "float", "elevation": "float", "distance": "float", "lookat": ("floats", 3)}
 _SAFETY = {"ssm": "str", "human_speed": "float", "measured_speed": "bool", "reaction_time": "float",
@@ -99,6 +102,9 @@ def read_toml(path: str | os.PathLike[str], what: str) -> dict[str, Any]:
         return tomllib.loads(p.read_text(encoding="utf-8"))
     except tomllib.TOMLDecodeError as err:
         raise ConfigError(f"invalid TOML: {err}", where=str(path)) from None
+    except RecursionError:  # tomllib parses nested arrays and tables recursively
+        raise ConfigError(f"nested too deeply to be a {what} (arrays or inline tables inside each other "
+                          "hundreds of levels deep)", where=str(path)) from None
     except (OSError, UnicodeDecodeError) as err:
         raise ConfigError(f"cannot read the {what}: {err}", where=str(path)) from None
 
@@ -537,8 +543,9 @@ def _check_actions(spec: CellSpec, at) -> None:
             raise ConfigError(f"unknown handover pose {a.handover!r}; free targets: "
                               f"{', '.join(n for n, t in targets.items() if t.kind == 'free') or 'none'}",
                               where=at(f"{entry}.handover"))
-        if kind.holds and not a.turn_time > 0:
-            raise ConfigError(f"a {a.kind} action needs turn_time > 0 s", where=at(f"{entry}.turn_time"))
+        if kind.holds and not 0 < a.turn_time <= TURN_TIME_MAX:
+            raise ConfigError(f"a {a.kind} action needs turn_time in (0, {TURN_TIME_MAX:g}] s, got "
+                              f"{a.turn_time:g}", where=at(f"{entry}.turn_time"))
         if not kind.holds and a.turn_time:
             raise ConfigError(f"turn_time belongs to actions that hold a seated part ("
                               f"{', '.join(k for k, v in ACTION_KINDS.items() if v.holds)}), not to "

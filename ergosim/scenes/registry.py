@@ -57,7 +57,10 @@ def cell_document(name_or_path: str | os.PathLike[str]) -> tuple[dict[str, Any],
     mesh ``file`` given relative to the workcell file is made absolute here, so the cell builds from
     anywhere."""
     path = Path(name_or_path)
-    if str(name_or_path).endswith(".toml") or path.is_file():
+    text = str(name_or_path)
+    # a path (not a registered name) when it looks like one or names anything: /dev/zero is refused as not
+    # a regular file, not called an unknown scene
+    if text.endswith(".toml") or os.sep in text or path.exists():
         return _meshes_from(read_cell_file(path), path.parent), str(path)
     path = scene_path(str(name_or_path))
     return _meshes_from(read_cell_file(path), path.parent), _source(path)

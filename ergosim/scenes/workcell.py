@@ -340,6 +340,23 @@ class Workcell:
         target, _ = self.site_pose(geom.target)
         return float(np.linalg.norm(pos - target)) <= self.config.place_tolerance
 
+    def why_not_done(self, geom: ActionGeometry) -> str:
+        """Why :meth:`action_done` is false for ``geom`` now, in words (a ``not_completed`` attempt's
+        reason): how far the part is from its seat or target against the tolerance, or who still holds it."""
+        cfg = self.config
+        if geom.seats:
+            dist, angle = self.seat_error(geom.part)
+            return (f"{geom.part} is not seated: {dist * 1000:.0f} mm and {angle:.0f} deg from its seat "
+                    f"(tolerance {cfg.seat_tolerance * 1000:.0f} mm and {cfg.seat_tolerance_deg:g} deg)")
+        if geom.received:
+            return f"the receiver does not hold {geom.part}"
+        holder = self.holder_of(geom.part)
+        if holder is not None:
+            return f"{holder} still holds {geom.part}"
+        dist = float(np.linalg.norm(self.body_pose(geom.part)[0] - self.site_pose(geom.target)[0]))
+        return (f"{geom.part} ended {dist * 1000:.0f} mm from its target, outside the place tolerance of "
+                f"{cfg.place_tolerance * 1000:.0f} mm")
+
     def grasp_site(self, part: str) -> str:
         """Site the robot's TCP goes to for a top-down grasp of ``part``: its own grasp site, or, once a part
         stands seated in an upward slot of it (covering its top), that part near its top end (the whole

@@ -16,7 +16,9 @@
     scene.shelf_height = [1.3, 1.45, 1.6]
     robot_cost = [25.0, 50.0]
 
-    [zip]                                  # values taken together, position by position
+    [zip]                                  # values taken together, position by position: one factor
+    name = "layout"                        # the factor's name (default: its keys joined by "+")
+    levels = ["A", "B"]                    # its levels' names (default: the values joined by " / ")
     "scene.l_xy" = [[0.20, 0.82], [0.24, 0.86]]
     "scene.s1_xy" = [[0.30, 0.90], [0.34, 0.94]]
 
@@ -28,7 +30,9 @@
     "scene.j_xy" = [[0.10, 0.70], [0.20, 0.80]]   # vector fields: [low vector, high vector]
 
 Any ``--set`` key is an axis, in any one block. The cells are the product of the blocks present, grid
-(first key slowest) × zip × sample; no axis gives one cell. Values are written as ``--set`` strings (a
+(first key slowest) × zip × sample; no axis gives one cell. The tables, plots and ``ergosim compare`` vary
+*factors*: each grid or sample axis is one, and the whole zip is one, with named levels. Values are
+written as ``--set`` strings (a
 vector as ``0.2,0.82``), so a sweep cell is exactly ``ergosim run SCENARIO --set ...``. Every cell is
 resolved against the base scenario when the file is read: a bad file or a bad cell is one
 :class:`~ergosim.errors.ConfigError` naming the file, the entry and the value, before any simulation.
@@ -36,6 +40,7 @@ resolved against the base scenario when the file is read: a bad file or a bad ce
 
 from __future__ import annotations
 
+import collections
 import dataclasses
 import itertools
 import json
@@ -48,25 +53,36 @@ from typing import Any
 import numpy as np
 
 from ergosim.errors import ConfigError, ErgosimError
-from ergosim.experiment.scenario import Scenario, load_scenario, scenario_names
-from ergosim.scenes.cellfile import MAX_FILE_BYTES, read_toml
-from ergosim.sweep.metrics import DEFAULT_METRICS, check_metric
+from ergosim.experiment.scenario import Scenario, load_scenario
+from ergosim.scenes.cellfile import read_toml
+from ergosim.sweep.file_values import (
+    MAX_UNITS,
+    check_key,
+    flat_keys,
+    read_metrics,
+    read_modes,
+    read_seeds,
+    read_string,
+    read_subjects,
+    read_table,
+    scenario_reference,
+    set_string,
+    typed_value,
+)
+from ergosim.sweep.metrics import DEFAULT_METRICS
 
-__all__ = ["Axis", "Cell", "Sampling", "Sweep", "load_sweep", "parse_sweep", "set_string", "MAX_CELLS",
+__all__ = ["Axis", "Factor", "Cell", "Sampling", "Sweep", "load_sweep", "parse_sweep", "set_string",
+           "MAX_CELLS",
            "MAX_UNITS", "SAMPLE_METHODS"]
 
 MAX_CELLS = 10_000
 """Largest number of cells in a sweep (assumed: a design larger than this is a typo in a range)."""
-MAX_UNITS = 500_000
-"""Largest number of work units (cells × subjects × seeds × modes); each leaves one small file."""
 SAMPLE_METHODS = ("random", "lhs")
 
 _TOP = ("name", "description", "scenario", "subjects", "seeds", "modes", "metrics", "set", "grid", "zip",
         "sample")
 _SAMPLE_KEYS = ("method", "n", "seed")
-_RESERVED = {"subjects": "the sweep's top-level 'subjects'", "protocol.subjects": "the sweep's 'subjects'",
-             "modes": "the sweep's top-level 'modes'", "protocol.modes": "the sweep's 'modes'",
-             "seed": "the sweep's top-level 'seeds'"}
+_ZIP_KEYS = ("name", "levels")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -84,15 +100,41 @@ class Axis:
 
 
 @dataclasses.dataclass(frozen=True)
+class Factor:
+    """What the design varies, as the tables, plots and ``compare`` show it: a [grid] or [sample] axis (one
+    key, its levels the values' ``--set`` strings), or the whole [zip] block (its keys move together, its
+    levels named by ``levels``)."""
+
+    name: str
+    block: str
+    keys: tuple[str, ...]
+    levels: tuple[str, ...]
+
+    @property
+    def column(self) -> str:
+        return f"param.{self.name}"
+
+
+@dataclasses.dataclass(frozen=True)
 class Cell:
-    """One point of the design: its axis values (``params``) and their ``--set`` strings."""
+    """One point of the design: its axis values (``params``), their ``--set`` strings and the level of
+    each factor (``levels``: factor name -> level name)."""
 
     index: int
     params: Mapping[str, Any]
     overrides: Mapping[str, str]
+    levels: Mapping[str, str] = dataclasses.field(default_factory=dict)
 
     def label(self) -> str:
-        return ", ".join(f"{k}={v}" for k, v in self.overrides.items()) or "base"
+        """``layout=B, takt=45.0``: each factor's level."""
+        return ", ".join(f"{k}={v}" for k, v in self.levels.items()) or "base"
+
+    def settings(self) -> str:
+        """The label, with the ``--set`` values behind a zip's level: ``layout=B (scene.l_xy=0.24,0.86,
+        scene.s1_xy=0.34,0.94)``."""
+        if set(self.levels) == set(self.overrides):
+            return self.label()
+        return f"{self.label()} ({', '.join(f'{k}={v}' for k, v in self.overrides.items())})"
 
 
 @dataclasses.dataclass(frozen=True)
@@ -114,6 +156,7 @@ class Sweep:
     scenario: str
     fixed: Mapping[str, str]
     axes: tuple[Axis, ...]
+    factors: tuple[Factor, ...]
     cells: tuple[Cell, ...]
     subjects: tuple[int, ...]
     seeds: tuple[int, ...]
@@ -146,42 +189,41 @@ def parse_sweep(doc: Mapping[str, Any], *, source: str = "<sweep>", base_dir: Pa
         raise ConfigError(f"unknown key {unknown[0]!r}; valid keys: {', '.join(_TOP)}", where=source)
     if "scenario" not in doc:
         raise ConfigError("missing key 'scenario' (a bundled scenario or a scenario file)", where=source)
-    name = _string(doc.get("name", default_name), at("name"))
-    description = _string(doc.get("description", "-"), at("description"))
-    scenario_ref = _scenario_ref(doc["scenario"], base_dir, at("scenario"))
-    fixed_doc = _flat(_table(doc, "set", source), at("set"))
+    name = read_string(doc.get("name", default_name), at("name"))
+    description = read_string(doc.get("description", "-"), at("description"))
+    scenario_ref = scenario_reference(doc["scenario"], base_dir, at("scenario"))
+    fixed_doc = flat_keys(read_table(doc, "set", source), at("set"))
     fixed = {k: set_string(v, at(f"set.{k}")) for k, v in fixed_doc.items()}
     for key in fixed:
-        _check_key(key, at(f"set.{key}"))
+        check_key(key, at(f"set.{key}"))
     axes, blocks = _axes(doc, source)
     for key in fixed:
         if key in {a.key for a in axes}:
             raise ConfigError(f"{key!r} is both fixed in [set] and an axis; give it once",
                               where=at(f"set.{key}"))
-    subjects = _subjects(doc.get("subjects", 1), at("subjects"))
-    seeds = _seeds(doc.get("seeds", 0), at("seeds"))
+    factors = _factors(blocks, source)
+    _check_size(blocks, source)
+    subjects = read_subjects(doc.get("subjects", 1), at("subjects"))
+    seeds = read_seeds(doc.get("seeds", 0), at("seeds"))
     try:
         base = load_scenario(scenario_ref, fixed)
     except ErgosimError as err:
         raise ConfigError(f"scenario {scenario_ref!r} with [set]: {err}",
                           where=at("set" if fixed else "scenario")) from None
     base_modes = tuple(base.protocol.modes)
-    modes = _modes(doc.get("modes", list(base_modes)), at("modes"))
+    modes = read_modes(doc.get("modes", list(base_modes)), at("modes"))
     extra = [m for m in modes if m not in base_modes]
     slots = {m: base_modes.index(m) if m in base_modes else len(base_modes) + extra.index(m) for m in modes}
     actions = tuple(base.task().actions)
-    metrics = _metrics(doc.get("metrics", list(DEFAULT_METRICS)), actions, at("metrics"))
+    metrics = read_metrics(doc.get("metrics", list(DEFAULT_METRICS)), actions, at("metrics"))
     points, seen = [], set()
-    for p in _product(blocks):  # sample points that coincide (integer ranges) are one cell, the first kept
+    for p, levels in _product(blocks, factors):  # coinciding sample points (integer ranges): one cell
         key = json.dumps(p, sort_keys=True)
         if key not in seen:
             seen.add(key)
-            points.append(p)
-    cells = tuple(Cell(i, params, {k: set_string(v, source) for k, v in params.items()})
-                  for i, params in enumerate(points))
-    if len(cells) > MAX_CELLS:
-        raise ConfigError(f"the design has {len(cells)} cells, more than the limit of {MAX_CELLS} "
-                          "(MAX_CELLS)", where=source)
+            points.append((p, levels))
+    cells = tuple(Cell(i, params, {k: set_string(v, source) for k, v in params.items()}, levels)
+                  for i, (params, levels) in enumerate(points))
     n_units = len(cells) * len(subjects) * len(seeds) * len(modes)
     if n_units > MAX_UNITS:
         raise ConfigError(f"the sweep has {n_units} work units (cells × subjects × seeds × modes), more than "
@@ -199,155 +241,13 @@ def parse_sweep(doc: Mapping[str, Any], *, source: str = "<sweep>", base_dir: Pa
         try:
             scenarios.append(base.with_overrides(dict(cell.overrides), where=at(f"cell {cell.index}")))
         except ErgosimError as err:
-            raise ConfigError(f"cell {cell.index} ({cell.label()}): {err.what}",
+            raise ConfigError(f"cell {cell.index} ({cell.settings()}): {err.what}",
                               where=at(_block_of(cell, axes))) from None
     sampling = blocks[-1][2] if blocks and blocks[-1][0] == "sample" else None
     return Sweep(name=name, source=source, description=description, scenario=scenario_ref, fixed=fixed,
-                 axes=axes, cells=cells, subjects=subjects, seeds=seeds, modes=modes, metrics=metrics,
+                 axes=axes, factors=factors, cells=cells, subjects=subjects, seeds=seeds, modes=modes,
+                 metrics=metrics,
                  actions=actions, slots=slots, sampling=sampling, base=base, scenarios=tuple(scenarios))
-
-
-# -- values ----------------------------------------------------------------------------------------------
-def set_string(value: Any, where: str) -> str:
-    """A TOML value as the ``--set`` string ``ergosim run`` would take: numbers, booleans, strings,
-    vectors (``[0.2, 0.8]`` -> ``0.2,0.8``) and name:value pairs (``[["upper_arm", 1.1]]``)."""
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, int | float):
-        return _number(value, where)
-    if isinstance(value, str):
-        return value
-    if isinstance(value, list | tuple) and value:
-        if all(isinstance(v, list | tuple) and len(v) == 2 and isinstance(v[0], str) for v in value):
-            return ",".join(f"{n}:{_number(x, where)}" for n, x in value)
-        if all(isinstance(v, int | float) and not isinstance(v, bool) for v in value):
-            return ",".join(_number(v, where) for v in value)
-    raise ConfigError(f"expected a number, a boolean, a string or a list of numbers, got {value!r}",
-                      where=where)
-
-
-def _number(value: Any, where: str) -> str:
-    if isinstance(value, bool) or not isinstance(value, int | float):
-        raise ConfigError(f"expected a number, got {value!r}", where=where)
-    if isinstance(value, float) and not math.isfinite(value):
-        raise ConfigError(f"expected a finite number, got {value!r}", where=where)
-    return str(value) if isinstance(value, int) else repr(float(value))
-
-
-def _typed(value: Any) -> Any:
-    """A parameter value as stored: lists become tuples (vectors or name:value pairs)."""
-    if isinstance(value, list):
-        return tuple(tuple(v) if isinstance(v, list) else v for v in value)
-    return value
-
-
-def _string(value: Any, where: str) -> str:
-    if not isinstance(value, str) or not value.strip():
-        raise ConfigError(f"expected a non-empty string, got {value!r}", where=where)
-    return value
-
-
-def _table(doc: Mapping[str, Any], key: str, source: str) -> dict[str, Any]:
-    table = doc.get(key, {})
-    if not isinstance(table, dict):
-        raise ConfigError(f"expected a table [{key}], got {table!r}", where=f"{source}: {key}")
-    return table
-
-
-def _flat(table: Mapping[str, Any], where: str, prefix: str = "") -> dict[str, Any]:
-    """``{"scene": {"shelf_height": x}}`` (TOML's dotted keys) -> ``{"scene.shelf_height": x}``."""
-    out: dict[str, Any] = {}
-    for key, value in table.items():
-        full = f"{prefix}{key}"
-        if isinstance(value, dict):
-            if not value:
-                raise ConfigError(f"{full!r} is an empty table; expected values", where=where)
-            out.update(_flat(value, where, prefix=f"{full}."))
-        else:
-            out[full] = value
-    return out
-
-
-def _check_key(key: str, where: str) -> None:
-    if key in _RESERVED:
-        raise ConfigError(f"{key!r} cannot be set per cell; use {_RESERVED[key]}", where=where)
-    if key in ("scene", "workcell", "task") or key.startswith("task."):
-        raise ConfigError(f"{key!r} is set by the scenario file, not by an override; use scene.<field>",
-                          where=where)
-
-
-def _scenario_ref(value: Any, base_dir: Path | None, where: str) -> str:
-    ref = _string(value, where)
-    if ref in scenario_names():
-        return ref
-    path = Path(ref)
-    if not path.is_absolute() and base_dir is not None:
-        path = base_dir / path
-    if not path.is_file():
-        raise ConfigError(f"no scenario {ref!r}: neither a bundled scenario ({', '.join(scenario_names())}) "
-                          f"nor a file", where=where)
-    if path.stat().st_size > MAX_FILE_BYTES:
-        raise ConfigError(f"larger than {MAX_FILE_BYTES // 1024 // 1024} MiB; not a scenario file",
-                          where=where)
-    return str(path)
-
-
-def _subjects(value: Any, where: str) -> tuple[int, ...]:
-    if isinstance(value, bool):
-        raise ConfigError(f"expected a count, 'A:B' or a list of subject indices, got {value!r}", where=where)
-    if isinstance(value, int):
-        if value < 1:
-            raise ConfigError(f"expected at least 1 subject, got {value}", where=where)
-        return tuple(range(value))
-    if isinstance(value, str):
-        first, sep, end = value.partition(":")
-        try:
-            a, b = int(first), int(end)
-        except ValueError:
-            a = b = -1
-        if not sep or not 0 <= a < b:
-            raise ConfigError(f"expected 'A:B' with 0 <= A < B (subjects A..B-1), got {value!r}", where=where)
-        return tuple(range(a, b))
-    return _indices(value, "subject index", where)
-
-
-def _seeds(value: Any, where: str) -> tuple[int, ...]:
-    if isinstance(value, int) and not isinstance(value, bool):
-        value = [value]
-    return _indices(value, "seed", where)
-
-
-def _indices(value: Any, what: str, where: str) -> tuple[int, ...]:
-    if not isinstance(value, list) or not value:
-        raise ConfigError(f"expected a non-empty list of {what}s, got {value!r}", where=where)
-    for v in value:
-        if isinstance(v, bool) or not isinstance(v, int) or v < 0:
-            raise ConfigError(f"expected {what}s as integers >= 0, got {v!r}", where=where)
-    dupes = sorted({v for v in value if value.count(v) > 1})
-    if dupes:
-        raise ConfigError(f"{what} {dupes[0]} is listed twice", where=where)
-    return tuple(value)
-
-
-def _modes(value: Any, where: str) -> tuple[str, ...]:
-    from ergosim.twin.modes import mode_names  # noqa: PLC0415
-
-    if isinstance(value, str):
-        value = [value]
-    if not isinstance(value, list) or not value or not all(isinstance(m, str) for m in value):
-        raise ConfigError(f"expected a non-empty list of modes, got {value!r}", where=where)
-    for m in value:
-        if m not in mode_names():
-            raise ConfigError(f"unknown mode {m!r}; valid modes: {', '.join(mode_names())}", where=where)
-    if len(set(value)) != len(value):
-        raise ConfigError(f"a mode is listed twice: {value}", where=where)
-    return tuple(value)
-
-
-def _metrics(value: Any, actions: Sequence[str], where: str) -> tuple[str, ...]:
-    if not isinstance(value, list) or not value or not all(isinstance(m, str) for m in value):
-        raise ConfigError(f"expected a non-empty list of metric names, got {value!r}", where=where)
-    return tuple(dict.fromkeys(check_metric(m, actions, where) for m in value))
 
 
 # -- the design ------------------------------------------------------------------------------------------
@@ -358,48 +258,56 @@ def _axes(doc: Mapping[str, Any], source: str) -> tuple[tuple[Axis, ...], list]:
 
     def claim(key: str, block: str) -> None:
         where = f"{source}: {block}.{key}"
-        _check_key(key, where)
+        check_key(key, where)
         if key in seen:
             raise ConfigError(f"{key!r} is an axis in both [{seen[key]}] and [{block}]; give it once",
                               where=where)
         seen[key] = block
 
-    def listed(block: str) -> list[tuple[str, list[Any]]]:
+    def listed(block: str, table: Mapping[str, Any]) -> list[tuple[str, list[Any]]]:
         """The (key, values) of a [grid] or [zip] table, each key claimed."""
         entries = []
-        for key, values in _flat(_table(doc, block, source), f"{source}: {block}").items():
+        for key, values in flat_keys(table, f"{source}: {block}").items():
             claim(key, block)
             entries.append((key, _values(values, f"{source}: {block}.{key}")))
         return entries
 
-    entries = listed("grid")
+    entries = listed("grid", read_table(doc, "grid", source))
     if entries:
         blocks.append(("grid", entries, None))
-    entries = listed("zip")
+    table = dict(read_table(doc, "zip", source))
+    named = {k: table.pop(k) for k in _ZIP_KEYS if k in table}
+    entries = listed("zip", table)
+    if named and not entries:
+        raise ConfigError("a [zip] with a name or levels needs its keys and their lists",
+                          where=f"{source}: zip")
     if entries:
         lengths = {len(v) for _, v in entries}
         if len(lengths) > 1:
             counts = ", ".join(f"{k} {len(v)}" for k, v in entries)
             raise ConfigError(f"the lists of a zip must have one length; got {counts}",
                               where=f"{source}: zip")
-        blocks.append(("zip", entries, None))
-    sample = _table(doc, "sample", source)
+        blocks.append(("zip", entries, _zip_names(named, entries, source)))
+    sample = read_table(doc, "sample", source)
     if sample:
         blocks.append(_sample(sample, source, claim))
     axes = []
     for kind, entries, _ in blocks:
         for key, values in entries:
-            axes.append(Axis(key, kind, tuple(dict.fromkeys(_typed(v) for v in values))))
+            axes.append(Axis(key, kind, tuple(dict.fromkeys(typed_value(v) for v in values))))
     return tuple(axes), blocks
 
 
 def _values(values: Any, where: str) -> list[Any]:
     if not isinstance(values, list) or not values:
         raise ConfigError(f"expected a non-empty list of values, got {values!r}", where=where)
+    if len(values) > MAX_CELLS:
+        raise ConfigError(f"{len(values)} values are more cells than the limit of {MAX_CELLS} (MAX_CELLS)",
+                          where=where)
     for v in values:
         set_string(v, where)
-    typed = [_typed(v) for v in values]
-    dupes = [v for v in typed if typed.count(v) > 1]
+    typed = [typed_value(v) for v in values]
+    dupes = [v for v, k in collections.Counter(typed).items() if k > 1]
     if dupes:
         raise ConfigError(f"value {dupes[0]!r} is listed twice", where=where)
     if all(isinstance(v, int | float) and not isinstance(v, bool) for v in values) and \
@@ -418,10 +326,13 @@ def _sample(table: Mapping[str, Any], source: str, claim) -> tuple[str, list, Sa
     if isinstance(n, bool) or not isinstance(n, int) or n < 1:
         raise ConfigError(f"expected n, the number of samples, as an integer >= 1, got {n!r}",
                           where=f"{where}.n")
+    if n > MAX_CELLS:
+        raise ConfigError(f"{n} samples are more cells than the limit of {MAX_CELLS} (MAX_CELLS)",
+                          where=f"{where}.n")
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         raise ConfigError(f"expected seed as an integer >= 0 (the design is random), got {seed!r}",
                           where=f"{where}.seed")
-    ranges = _flat({k: v for k, v in table.items() if k not in _SAMPLE_KEYS}, where)
+    ranges = flat_keys({k: v for k, v in table.items() if k not in _SAMPLE_KEYS}, where)
     if not ranges:
         raise ConfigError("no ranges to sample; give KEY = [low, high]", where=where)
     bounds = []
@@ -477,25 +388,86 @@ def _lhs(rng: np.random.Generator, n: int, dims: int) -> np.ndarray:
     return u
 
 
-def _product(blocks: list) -> list[dict[str, Any]]:
-    """Cell parameter dicts: the grid's full product (first key slowest) × the zip's rows × the samples."""
-    factors: list[list[dict[str, Any]]] = []
+def _zip_names(named: Mapping[str, Any], entries: Sequence[tuple[str, list]], source: str
+               ) -> tuple[str, tuple[str, ...]]:
+    """(factor name, level names) of a [zip]: as given, or its keys joined by "+" and each position's
+    values joined by " / "."""
+    n = len(entries[0][1])
+    name = named.get("name", "+".join(k for k, _ in entries))
+    if not isinstance(name, str) or not name.strip():
+        raise ConfigError(f"expected the zip's name as a non-empty string, got {name!r}",
+                          where=f"{source}: zip.name")
+    levels = named.get("levels")
+    if levels is None:
+        return name, tuple(" / ".join(set_string(v[i], source) for _, v in entries) for i in range(n))
+    if not isinstance(levels, list) or not all(isinstance(x, str) and x.strip() for x in levels):
+        raise ConfigError(f"expected levels as a list of non-empty strings, got {levels!r}",
+                          where=f"{source}: zip.levels")
+    if len(levels) != n:
+        raise ConfigError(f"{len(levels)} level names for {n} positions of the zip",
+                          where=f"{source}: zip.levels")
+    if len(set(levels)) != len(levels):
+        raise ConfigError(f"a level name is given twice: {levels}", where=f"{source}: zip.levels")
+    return name, tuple(levels)
+
+
+def _factors(blocks: list, source: str) -> tuple[Factor, ...]:
+    """The design's factors: one per grid or sample axis, one for the zip."""
+    out = []
+    for kind, entries, extra in blocks:
+        if kind == "zip":
+            name, levels = extra
+            keys = tuple(k for k, _ in entries)
+            others = {k for b in blocks if b[0] != "zip" for k, _ in b[1]}
+            if (name in keys and len(keys) > 1) or name in others:
+                raise ConfigError(f"the zip's name {name!r} is also an axis key; give it another name",
+                                  where=f"{source}: zip.name")
+            out.append(Factor(name, kind, keys, levels))
+        else:
+            for key, values in entries:
+                labels = tuple(dict.fromkeys(set_string(v, source) for v in values))
+                out.append(Factor(key, kind, (key,), labels))
+    return tuple(out)
+
+
+def _check_size(blocks: list, source: str) -> None:
+    """Refuse a design over MAX_CELLS from the blocks' sizes, before a cell is made."""
+    size = 1
+    for kind, entries, _ in blocks:
+        size *= math.prod(len(v) for _, v in entries) if kind == "grid" else len(entries[0][1])
+    if size > MAX_CELLS:
+        raise ConfigError(f"the design has {size} cells, more than the limit of {MAX_CELLS} (MAX_CELLS)",
+                          where=source)
+
+
+def _product(blocks: list, factors: Sequence[Factor]) -> list[tuple[dict[str, Any], dict[str, str]]]:
+    """(cell parameters, factor levels): the grid's full product (first key slowest) × the zip's rows ×
+    the samples."""
+    factors_rows: list[list[tuple[dict[str, Any], dict[str, str]]]] = []
+    zip_factor = next((f for f in factors if f.block == "zip"), None)
     for kind, entries, _ in blocks:
         if kind == "grid":
             keys = [k for k, _ in entries]
-            rows = [dict(zip(keys, combo, strict=True))
-                    for combo in itertools.product(*(v for _, v in entries))]
+            combos = itertools.product(*(v for _, v in entries))
+            rows = [dict(zip(keys, combo, strict=True)) for combo in combos]
+            factors_rows.append([(r, {k: set_string(v, "grid") for k, v in r.items()}) for r in rows])
+        elif kind == "zip":
+            n = len(entries[0][1])
+            factors_rows.append([({k: v[i] for k, v in entries}, {zip_factor.name: zip_factor.levels[i]})
+                                 for i in range(n)])
         else:
             n = len(entries[0][1])
             rows = [{k: v[i] for k, v in entries} for i in range(n)]
-        factors.append(rows)
+            factors_rows.append([(r, {k: set_string(v, "sample") for k, v in r.items()}) for r in rows])
     cells = []
-    for combo in itertools.product(*factors):
+    for combo in itertools.product(*factors_rows):
         params: dict[str, Any] = {}
-        for part in combo:
-            params.update({k: _typed(v) for k, v in part.items()})
-        cells.append(params)
-    return cells or [{}]
+        levels: dict[str, str] = {}
+        for part, named in combo:
+            params.update({k: typed_value(v) for k, v in part.items()})
+            levels.update(named)
+        cells.append((params, levels))
+    return cells or [({}, {})]
 
 
 def _block_of(cell: Cell, axes: Sequence[Axis]) -> str:

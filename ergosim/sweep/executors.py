@@ -17,6 +17,7 @@ import logging
 import multiprocessing
 import os
 import signal
+import socket
 import sys
 import time
 from collections.abc import Iterable, Iterator, Sequence
@@ -25,11 +26,13 @@ from typing import Any
 
 from ergosim.errors import ConfigError, ErgosimError
 from ergosim.experiment.interrupt import quiet_worker, signals_ignored, stop_pool
+from ergosim.experiment.spawn_guard import check_main_guard
 from ergosim.logs import configured_level
 from ergosim.plugins import extension_modules
 from ergosim.sweep.units import Unit, failed_document, run_unit
 
-__all__ = ["Executor", "LocalExecutor", "RayExecutor", "SweepError", "make_executor", "EXECUTORS"]
+__all__ = ["Executor", "LocalExecutor", "RayExecutor", "SweepError", "make_executor", "EXECUTORS",
+           "RAY_CONNECT_TIMEOUT"]
 
 EXECUTORS = ("local", "ray")
 
@@ -80,6 +83,7 @@ class LocalExecutor(Executor):
             for scenario, unit in tasks:
                 yield run_unit(scenario, unit, actions, extension_modules())
             return
+        check_main_guard(where="jobs")
         ctx = multiprocessing.get_context("spawn")
         pending: dict[cf.Future, Unit] = {}
         extensions = extension_modules()
@@ -163,6 +167,7 @@ class RayExecutor(Executor):
             kwargs: dict[str, Any] = {"include_dashboard": False, "logging_level": logging.ERROR,
                                       "log_to_driver": False}
             if address:
+                _reachable(address)
                 kwargs["address"] = address
             else:
                 kwargs["num_cpus"] = max(1, jobs or os.cpu_count() or 1)
@@ -224,6 +229,27 @@ class RayExecutor(Executor):
     def describe(self) -> dict[str, Any]:
         return {"executor": self.name, "workers": self.workers, "ray_address": self.address,
                 "startup_s": self.startup_s}
+
+
+RAY_CONNECT_TIMEOUT = 10.0
+"""Seconds a Ray cluster's address has to accept a connection before the sweep is refused (Ray itself keeps
+retrying an address where nothing listens for minutes)."""
+
+
+def _reachable(address: str) -> None:
+    """Refuse an address ``host:port`` (or ``ray://host:port``) where nothing accepts a connection within
+    :data:`RAY_CONNECT_TIMEOUT`; ``auto`` and other forms are left to Ray."""
+    host, sep, port = address.removeprefix("ray://").rpartition(":")
+    if not sep or not port.isdigit() or not host:
+        return
+    try:
+        with socket.create_connection((host.strip("[]"), int(port)), timeout=RAY_CONNECT_TIMEOUT):
+            pass
+    except OSError as err:
+        why = "nothing answered" if isinstance(err, TimeoutError) else (err.strerror or str(err)).lower()
+        raise ConfigError(f"cannot connect to the Ray cluster at {address}: {why} (within "
+                          f"{RAY_CONNECT_TIMEOUT:g} s); is `ray start --head` running there?",
+                          where="--ray-address") from None
 
 
 def make_executor(kind: str, jobs: int | None = None, address: str | None = None) -> Executor:

@@ -61,6 +61,8 @@ class SweepFolder:
         if (path / RUN_MANIFEST).is_file():
             raise ConfigError(f"{path} is the folder of an `ergosim run` ({RUN_MANIFEST}); give a sweep its "
                               "own", where=self.where)
+        # what this claim creates, deepest first: an early error takes it away again (discard)
+        self._made = [p for p in (path / ".lock", self.units, path, *path.parents) if not p.exists()]
         try:
             self.units.mkdir(parents=True, exist_ok=True)
             self._lock = open(path / ".lock", "a+")  # noqa: SIM115 - held until close()
@@ -86,6 +88,19 @@ class SweepFolder:
                 fcntl.flock(self._lock, fcntl.LOCK_UN)
             self._lock.close()
             self._lock = None
+
+    def discard(self) -> None:
+        """Close, and remove what :meth:`claim` created (the lock file, ``units/``, the folder and the
+        parents it made) while empty: a sweep refused before its manifest leaves nothing behind."""
+        self.close()
+        for made in getattr(self, "_made", []):
+            try:
+                if made.name == ".lock":
+                    made.unlink()
+                else:
+                    made.rmdir()
+            except OSError:
+                break  # not empty (a unit, someone else's file), or gone: leave it and what holds it
 
     def unit_path(self, unit_id: str) -> Path:
         return self.units / f"{unit_id}.json"

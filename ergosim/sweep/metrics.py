@@ -14,7 +14,8 @@ from ergosim.errors import ConfigError
 from ergosim.experiment.summary import summarise
 
 __all__ = ["METRICS", "ACTION_METRICS", "DEFAULT_METRICS", "INTEGER_METRICS", "metric_columns",
-           "check_metric", "unit_metrics", "metric_label"]
+           "check_metric", "unit_metrics", "metric_label", "share_trials", "metric_range",
+           "is_integer_metric", "from_calibration"]
 
 METRICS: dict[str, str] = {
     "robot_share": "robot share: completed robot actions / completed actions either agent may do",
@@ -28,6 +29,7 @@ METRICS: dict[str, str] = {
     "repetitions_completed": "repetitions completed",
     "repetitions_abandoned": "repetitions abandoned",
     "actions": "completed actions either agent may do",
+    "choices": "decisions where both agents could be chosen",
     "robot_actions": "of those, completed by the robot",
     "forced_robot_actions": "robot actions forced by failures",
     "forced_human_actions": "worker actions forced by failures",
@@ -41,22 +43,63 @@ METRICS: dict[str, str] = {
 
 ACTION_METRICS: dict[str, str] = {
     "robot_share": "share of {a} completed by the robot",
+    "actions": "completed executions of {a} either agent may do",
     "rula_g": "G({a}): the action's RULA grand score (calibration, §7.1)",
 }
 """Per-action metrics, columns ``<name>.<action>``."""
 
 INTEGER_METRICS = frozenset({"takt_overruns", "repetitions_completed", "repetitions_abandoned", "actions",
-                             "robot_actions", "forced_robot_actions", "forced_human_actions",
+                             "choices", "robot_actions", "forced_robot_actions", "forced_human_actions",
                              "failed_attempts", "robot_failures", "worker_failures",
                              "first_robot_repetition"})
 
+
+
+def is_integer_metric(name: str) -> bool:
+    return name in INTEGER_METRICS or name.startswith("actions.")
+
+
 DEFAULT_METRICS = ("robot_share", "kwear_integral", "time_above_vth", "takt_overruns")
+
+
+_SHARE_TRIALS = {"robot_share": "actions", "robot_share_chosen": "choices"}
+"""A proportion metric -> the metric that counts its trials (its denominator) in the same unit."""
+
+_RANGES: dict[str, tuple[float, float | None]] = {
+    "kwear_mean": (0.0, 5.0),  # ΣV over the five joints, each V in [0, 1] (eq. 4-5)
+    "first_robot_repetition": (1.0, None),
+}
+
+
+def share_trials(metric: str) -> str | None:
+    """The trials column of a proportion metric (``robot_share`` -> ``actions``, ``robot_share.a2`` ->
+    ``actions.a2``, ``robot_share_chosen`` -> ``choices``); None for a metric that is not a proportion."""
+    head, _, action = metric.partition(".")
+    if head == "robot_share" and action:
+        return f"actions.{action}"
+    return _SHARE_TRIALS.get(metric)
+
+
+def from_calibration(metric: str) -> bool:
+    """A metric the subject's calibration sets before the run (``rula_g.<a>``): a run cut short (an
+    abandoned repetition) leaves it whole."""
+    return metric.startswith("rula_g.")
+
+
+def metric_range(metric: str) -> tuple[float, float | None]:
+    """(low, high) a metric's value can take; high None: unbounded. A mean's interval is clipped to it."""
+    if share_trials(metric) is not None:
+        return 0.0, 1.0
+    if metric.startswith("rula_g."):
+        return 1.0, 7.0  # a RULA grand score (Table C)
+    return _RANGES.get(metric, (0.0, None))  # times, integrals and counts are never negative
 
 
 def metric_columns(actions: Sequence[str]) -> list[str]:
     """Every metric column for a task with ``actions``, in the order of the results table."""
     cols = ["robot_share", *(f"robot_share.{a}" for a in actions)]
     cols += [m for m in METRICS if m != "robot_share"]
+    cols += [f"actions.{a}" for a in actions]
     cols += [f"rula_g.{a}" for a in actions]
     return cols
 
@@ -89,6 +132,7 @@ def unit_metrics(run, rula_g: Mapping[str, float], actions: Sequence[str]) -> di
     for a in actions:
         out[f"robot_share.{a}"] = m["robot_share_by_action"].get(a)
     out["robot_share_chosen"] = m["robot_share_chosen"] if m["choices"] else None
+    out["choices"] = int(m["choices"])
     out["kwear_integral"] = m["kwear_integral_by_subject"][0]
     out["kwear_integral_run"] = m["kwear_integral_run_by_subject"][0]
     out["kwear_mean"] = m["kwear_mean_by_subject"][0]
@@ -102,6 +146,9 @@ def unit_metrics(run, rula_g: Mapping[str, float], actions: Sequence[str]) -> di
     robot = sorted((a.repetition, a.t_start) for a in run.allocations if a.done and run.by_robot(a.agent))
     out["first_robot_repetition"] = int(robot[0][0]) if robot else None
     out["first_robot_time"] = float(robot[0][1]) if robot else None
+    shared = [a.action for a in run.allocations if a.done and a.allocatable]  # robot_share's trials
+    for a in actions:
+        out[f"actions.{a}"] = shared.count(a)
     for a in actions:
         g = rula_g.get(a)
         out[f"rula_g.{a}"] = float(g) if g is not None else None

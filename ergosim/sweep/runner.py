@@ -13,6 +13,7 @@ from __future__ import annotations
 import dataclasses
 import logging
 import os
+import signal
 import sys
 import time
 from collections.abc import Mapping, Sequence
@@ -91,6 +92,9 @@ def _manifest(sweep, status: str, reason: str, units, docs, skipped: int, ran: i
         "units_skipped_at_start": skipped, "units_run": ran,
         "cells": len(sweep.cells), "cells_complete": len(complete),
         "axes": [{"key": a.key, "block": a.block, "values": list(a.values)} for a in sweep.axes],
+        "factors": [{"name": f.name, "block": f.block, "keys": list(f.keys), "levels": list(f.levels)}
+                    for f in sweep.factors],
+        "config": sweep.base.protocol.record(),
         "fixed": dict(sweep.fixed), "subjects": list(sweep.subjects), "seeds": list(sweep.seeds),
         "modes": list(sweep.modes), "mode_slots": dict(sweep.slots), "metrics": list(sweep.metrics),
         "actions": list(sweep.actions),
@@ -107,6 +111,7 @@ def run_sweep(sweep, out: str | Path, *, executor: str = "local", jobs: int | No
     folder = SweepFolder(out)
     folder.claim()
     start = time.monotonic()
+    manifest = False  # written: from then on the folder is the sweep's, whatever happens
     try:
         units = plan_units(sweep)
         docs = folder.finished(u.id for u in units)
@@ -117,58 +122,88 @@ def run_sweep(sweep, out: str | Path, *, executor: str = "local", jobs: int | No
         todo = list({u.id: u for u in units if u.id not in docs}.values())
         log.debug("%s: %d unit(s), %d finished in %s, %d to run", sweep.name, len(units), skipped, out,
                   len(todo))
-        if sweep_text is not None:
-            folder.write_sweep_file(sweep_text)
-        described: dict[str, Any] = {"executor": executor}
-        folder.write_manifest(_manifest(sweep, "running", "", units, docs, skipped, 0, set(), described, 0.0,
-                                        []))
-        status, reason, ran, plots, complete = "failed", "", 0, [], set()
-        try:
+        # the executor first (a Ray cluster that cannot be reached is refused now), so a sweep that never
+        # started leaves no manifest saying "running"
+        ex = None
+        if todo:
+            workers = min(jobs or os.cpu_count() or 1, len(todo)) if executor == "local" else jobs
             with interrupt_on_signals():
-                if todo:
-                    workers = min(jobs or os.cpu_count() or 1, len(todo)) if executor == "local" else jobs
-                    with make_executor(executor, workers, ray_address) as ex:
-                        described = ex.describe()
-                        bar = tqdm(total=len(units), initial=skipped, desc=sweep.name, unit="unit",
-                                   disable=not progress, file=sys.stderr, dynamic_ncols=True, smoothing=0.05,
-                                   mininterval=0.5 if sys.stderr.isatty() else 15.0)
-                        last = time.monotonic()
-                        try:
-                            tasks = ((sweep.scenarios[u.cell], u) for u in todo)
-                            for doc in ex.imap(tasks, sweep.actions):
-                                folder.write_unit(doc)
-                                log.debug("unit %s (cell %d, subject %d, seed %d, %s): %s in %.1f s%s",
-                                          doc["id"], doc["cell"], doc["subject"], doc["seed"], doc["mode"],
-                                          doc["status"], doc["wall_s"], f": {doc['error']}" if doc["error"]
-                                          else "")
-                                docs[doc["id"]] = doc
-                                ran += 1
-                                bar.update(1)
-                                if doc["status"] != "complete":
-                                    bar.set_postfix_str(f"{_not_complete(docs)} failed or abandoned",
-                                                        refresh=False)
-                                if time.monotonic() - last > CONSOLIDATE_EVERY:
-                                    _consolidate(sweep, folder, units, docs, plots=False)
-                                    last = time.monotonic()
-                        finally:
-                            bar.close()
-            status = "incomplete" if _not_complete(docs) else "complete"
-        except BaseException as err:
-            status, reason = stop_reason(err)
+                ex = make_executor(executor, workers, ray_address)
+        described: dict[str, Any] = {"executor": executor}
+        try:
+            if sweep_text is not None:
+                folder.write_sweep_file(sweep_text)
+            folder.write_manifest(_manifest(sweep, "running", "", units, docs, skipped, 0, set(), described,
+                                            0.0, []))
+            manifest = True
+        except BaseException:
+            if ex is not None:
+                ex.stop(cancel=True)
             raise
-        finally:
-            with interrupt_on_signals():  # a second Ctrl-C while writing still leaves whole files
+        status, reason, ran, plots, complete = "failed", "", 0, [], set()
+        # a signal while the results are consolidated is held until sweep.json is written, and the sweep
+        # is then "interrupted": an exit by a signal never leaves a manifest saying "running"
+        with interrupt_on_signals() as stop:
+            try:
+                if ex is not None:
+                    with ex:
+                        described = ex.describe()
+                        _run_units(sweep, folder, units, todo, docs, ex, skipped, progress)
+                stop.holding = True
+                status = "incomplete" if _not_complete(docs) else "complete"
+            except BaseException as err:
+                stop.holding = True
+                status, reason = stop_reason(err)
+                raise
+            finally:
                 ended = status in ("complete", "incomplete")
+                ran = len(docs) - skipped  # each unit run this time added its document
                 complete, plots = _consolidate(sweep, folder, units, docs, plots=ended)
-                folder.write_manifest(_manifest(sweep, status, reason, units, docs, skipped, ran, complete,
-                                                described, time.monotonic() - start, plots))
+                while True:
+                    if stop.held is not None and status in ("complete", "incomplete"):
+                        status, reason = "interrupted", (f"stopped by {signal.Signals(stop.held).name} while "
+                                                         "the results were written")
+                    folder.write_manifest(_manifest(sweep, status, reason, units, docs, skipped, ran,
+                                                    complete, described, time.monotonic() - start, plots))
+                    if stop.held is None or status not in ("complete", "incomplete"):
+                        break
+            if status == "interrupted":
+                stop.release()  # the signal held while a finished sweep was written
     finally:
-        folder.close()
+        if manifest:
+            folder.close()
+        else:
+            folder.discard()
     done = [docs[u.id] for u in units if u.id in docs]
     return SweepResult(out=Path(out), status=status, units=len(units), finished=len(done), skipped=skipped,
                        ran=ran, failed=sum(d["status"] == "failed" for d in done),
                        abandoned=sum(d["status"] == "abandoned" for d in done), cells_complete=len(complete),
                        wall=time.monotonic() - start, plots=tuple(plots), executor=described)
+
+
+def _run_units(sweep, folder: SweepFolder, units, todo, docs: dict, ex, skipped: int, progress: bool) -> None:
+    """Run the units ``todo`` on the executor ``ex``, writing each into ``folder`` and ``docs`` as it comes
+    (and the tables every CONSOLIDATE_EVERY seconds), with a progress bar."""
+    bar = tqdm(total=len(units), initial=skipped, desc=sweep.name, unit="unit", disable=not progress,
+               file=sys.stderr, dynamic_ncols=True, smoothing=0.05,
+               mininterval=0.5 if sys.stderr.isatty() else 15.0)
+    last = time.monotonic()
+    try:
+        tasks = ((sweep.scenarios[u.cell], u) for u in todo)
+        for doc in ex.imap(tasks, sweep.actions):
+            folder.write_unit(doc)
+            log.debug("unit %s (cell %d, subject %d, seed %d, %s): %s in %.1f s%s", doc["id"], doc["cell"],
+                      doc["subject"], doc["seed"], doc["mode"], doc["status"], doc["wall_s"],
+                      f": {doc['error']}" if doc["error"] else "")
+            docs[doc["id"]] = doc
+            bar.update(1)
+            if doc["status"] != "complete":
+                bar.set_postfix_str(f"{_not_complete(docs)} failed or abandoned", refresh=False)
+            if time.monotonic() - last > CONSOLIDATE_EVERY:
+                _consolidate(sweep, folder, units, docs, plots=False)
+                last = time.monotonic()
+    finally:
+        bar.close()
 
 
 def _not_complete(docs: Mapping[str, dict]) -> int:

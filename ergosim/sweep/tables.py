@@ -3,6 +3,7 @@
 ``results.parquet`` has one row per unit, in the order of the plan (cell, seed, subject, mode):
 
 - ``unit`` (the unit's id), ``cell`` (its index in the design);
+- ``param.<name>`` for a zip: its level's name (a string);
 - ``param.<key>`` for every axis (float, integer, bool or string; a vector field as a list of floats);
 - ``subject``, ``seed``, ``mode``, ``status`` (``complete``, ``abandoned`` or ``failed``), ``error``;
 - the metrics of :func:`~ergosim.sweep.metrics.metric_columns`: ``robot_share`` and ``robot_share.<a>``,
@@ -28,7 +29,7 @@ import pyarrow.parquet as pq
 
 from ergosim.atomic import write_bytes
 from ergosim.experiment.outputs import Output
-from ergosim.sweep.metrics import INTEGER_METRICS, metric_columns
+from ergosim.sweep.metrics import is_integer_metric, metric_columns
 from ergosim.sweep.units import Unit
 
 __all__ = ["results_table", "unit_rows_table", "param_type", "param_value", "write_parquet", "read_parquet",
@@ -66,11 +67,13 @@ def results_table(sweep, units: Sequence[Unit], docs: Mapping[str, dict]) -> pa.
     """One row per unit of ``units`` that has a document in ``docs``, in ``units`` order."""
     cols = metric_columns(sweep.actions)
     params = [(a.column, a.key, param_type(a.values)) for a in sweep.axes]
+    zips = [f for f in sweep.factors if f.block == "zip"]
     fields = [pa.field("unit", pa.string()), pa.field("cell", pa.int32())]
+    fields += [pa.field(f.column, pa.string()) for f in zips]
     fields += [pa.field(col, kind) for col, _, kind in params]
     fields += [pa.field("subject", pa.int32()), pa.field("seed", pa.int64()), pa.field("mode", pa.string()),
                pa.field("status", pa.string()), pa.field("error", pa.string())]
-    fields += [pa.field(c, pa.int64() if c in INTEGER_METRICS else pa.float64()) for c in cols]
+    fields += [pa.field(c, pa.int64() if is_integer_metric(c) else pa.float64()) for c in cols]
     data: dict[str, list] = {f.name: [] for f in fields}
     for u in units:
         doc = docs.get(u.id)
@@ -79,6 +82,8 @@ def results_table(sweep, units: Sequence[Unit], docs: Mapping[str, dict]) -> pa.
         cell = sweep.cells[u.cell]
         data["unit"].append(u.id)
         data["cell"].append(u.cell)
+        for f in zips:
+            data[f.column].append(cell.levels[f.name])
         for col, key, kind in params:
             data[col].append(param_value(cell.params[key], kind))
         for key in ("subject", "seed", "mode", "status", "error"):

@@ -25,16 +25,37 @@ from typing import Any, Literal
 
 from ergosim.ergonomics.cost import CostParams, rula_baseline_params
 from ergosim.errors import ConfigError
+from ergosim.machine import physical_memory
 from ergosim.overrides import flat_values, replace_flat
 from ergosim.robot.trajectory import CONTACT_SPEED, TRANSIT_SPEED
 from ergosim.twin.modes import mode_names
 
 __all__ = ["ScenarioConfig", "CostConfig", "RobotConfig", "PopulationConfig", "PacingConfig", "TeamConfig",
-           "SensingConfig", "CalibrationConfig", "PROTOCOL_KEYS", "ETA_MAX_LIMIT"]
+           "SensingConfig", "CalibrationConfig", "PROTOCOL_KEYS", "EE_SPEED_MIN",
+           "ETA_MAX_LIMIT", "PHYSICS_DT_MIN", "TAKT_MAX", "HORIZON_MAX", "SUBJECTS_MAX", "W_TIME_MAX",
+           "run_memory"]
 
 ETA_MAX_LIMIT = 50
 """Largest eta_max (calibration passes, §5). Assumed: each pass performs every action once (about a minute
 of simulated work), so 50 passes already take minutes of wall time per subject; the paper's η stay < 10."""
+EE_SPEED_MIN = 1e-3
+"""Slowest contact-critical TCP speed [m/s] (assumed): at 1 mm/s a few centimetres of approach already take
+a minute, and a planned motion holds a joint target per physics step."""
+PHYSICS_DT_MIN = 1e-4
+"""Finest physics step [s] (assumed: 10 kHz, ten times the Panda's 1 kHz control rate; the default is
+1/240 s). A finer one makes every simulated second cost tens of thousands of steps."""
+TAKT_MAX = 3600.0
+"""Longest takt [s] (assumed: a cycle of an hour is no longer a takt-timed line). The twin simulates the
+rest until each repetition's takt slot."""
+HORIZON_MAX = 86_400.0
+"""Longest schedule, repetitions × takt [s] (a day); the run simulates all of it, rests included."""
+W_TIME_MAX = 1e6
+"""Largest weight of the time term [cost per second] (assumed: the other costs are of order 1, so at 10^6 time
+already decides every choice; far larger weights overflow the costs)."""
+SUBJECTS_MAX = 10_000
+"""Most subjects of one run (a study has tens; each keeps its records in memory until the run ends)."""
+_TICK_BYTES_PER_COLUMN = 2 * 8
+"""Memory per logged tick and column [bytes]: a float64, in a log that grows by doubling."""
 
 
 def _need(ok: bool, msg: str, where: str) -> None:
@@ -100,8 +121,11 @@ class RobotConfig:
     the cell's robots' Cartesian limit (``RobotModel.max_speed``, checked with the workcell)."""
 
     def validate(self, where: str) -> None:
-        _need(self.ee_speed > 0, f"ee_speed must be > 0 m/s, got {self.ee_speed}", where)
-        _need(self.transit_speed > 0, f"transit_speed must be > 0 m/s, got {self.transit_speed}", where)
+        # the upper bound is each robot's Cartesian limit, checked against the cell's robots
+        _need(self.ee_speed >= EE_SPEED_MIN, f"ee_speed must be at least {EE_SPEED_MIN:g} m/s, got "
+              f"{self.ee_speed:g}", where)
+        _need(self.transit_speed >= EE_SPEED_MIN, f"transit_speed must be at least {EE_SPEED_MIN:g} m/s, got "
+              f"{self.transit_speed:g}", where)
         _need(self.ee_speed <= self.transit_speed, f"ee_speed ({self.ee_speed} m/s, contact-critical motion) "
               f"must not exceed transit_speed ({self.transit_speed} m/s, free-space motion)", where)
 
@@ -117,7 +141,8 @@ class PopulationConfig:
     """Mean pace of the subjects: 1 = MTM-1 standard performance (ergosim.worker.action_timing)."""
 
     def validate(self, where: str) -> None:
-        _need(self.subjects >= 1, f"subjects must be >= 1, got {self.subjects}", where)
+        _need(1 <= self.subjects <= SUBJECTS_MAX,
+              f"subjects must be in 1..{SUBJECTS_MAX}, got {self.subjects}", where)
         _need(0 <= self.female_fraction <= 1,
               f"female_fraction must be in [0, 1], got {self.female_fraction}", where)
         _need(0.1 <= self.pace <= 2.0, f"pace must be in [0.1, 2] (1 = MTM-1 standard performance), got "
@@ -141,7 +166,9 @@ class PacingConfig:
 
     def validate(self, where: str) -> None:
         _need(self.repetitions >= 1, f"repetitions must be >= 1, got {self.repetitions}", where)
-        _need(self.takt > 0, f"takt must be > 0 s, got {self.takt}", where)
+        _need(0 < self.takt <= TAKT_MAX, f"takt must be in (0, {TAKT_MAX:g}] s, got {self.takt:g}", where)
+        _need(self.horizon <= HORIZON_MAX, f"repetitions × takt must be at most {HORIZON_MAX:g} s (a day, "
+              f"simulated rests included), got {self.repetitions} × {self.takt:g} s", where)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -171,7 +198,8 @@ class TeamConfig:
     def validate(self, where: str) -> None:
         _need(self.execution in ("sequential", "parallel"),
               f"execution must be sequential or parallel, got {self.execution!r}", where)
-        _need(self.w_time >= 0, f"w_time must be >= 0 (cost per second), got {self.w_time}", where)
+        _need(0 <= self.w_time <= W_TIME_MAX, f"w_time must be in [0, {W_TIME_MAX:g}] (cost per second), got "
+              f"{self.w_time:g}", where)
         _need(self.team_margin is None or self.team_margin > 0,
               f"team_margin must be > 0 or none, got {self.team_margin}", where)
         _need(0 < self.refusal_tolerance < 1, f"refusal_tolerance must be in (0, 1), got "
@@ -198,8 +226,8 @@ class SensingConfig:
         ratio = self.mocap_rate / self.ergonomics_rate
         _need(abs(ratio - round(ratio)) < 1e-9 and ratio >= 1, f"mocap_rate ({self.mocap_rate} Hz) must be a "
               f"whole multiple of ergonomics_rate ({self.ergonomics_rate} Hz)", where)
-        _need(0 < self.physics_dt <= 1 / self.mocap_rate,
-              f"physics_dt must be in (0, 1/mocap_rate], got {self.physics_dt}", where)
+        _need(PHYSICS_DT_MIN <= self.physics_dt <= 1 / self.mocap_rate,
+              f"physics_dt must be in [{PHYSICS_DT_MIN:g}, 1/mocap_rate] s, got {self.physics_dt:g}", where)
         _need(self.noise_scale >= 0, "noise_scale must be >= 0", where)
         _need(0 <= self.dropout_rate < 1, "dropout_rate must be in [0, 1)", where)
 
@@ -262,6 +290,11 @@ class ScenarioConfig:
         self.robot.validate(where)
         self.calibration.validate(where)
         self.team.validate(where)
+        held, memory = run_memory(self), physical_memory()
+        _need(held <= memory / 2, f"subjects × modes × repetitions × takt = {self.population.subjects} × "
+              f"{len(self.modes)} × {self.pacing.repetitions} × {self.pacing.takt:g} s of records at "
+              f"{self.sensing.ergonomics_rate:g} Hz need about {held / 1e9:.3g} GB in memory; this machine "
+              f"has {memory / 1e9:.3g} GB (at most half of it is used)", where)
 
     def record(self) -> dict:
         """The protocol as the outputs record it (``summary.json`` ``config``, ``run.json``), flat by field
@@ -288,3 +321,13 @@ def protocol_from_record(config: Mapping[str, Any]) -> ScenarioConfig:
     """The protocol a ``config`` of the outputs (:meth:`ScenarioConfig.record`, lists for tuples) holds."""
     fields = {k: tuple(v) if isinstance(v, list) else v for k, v in config.items()}
     return ScenarioConfig.of(fields.pop("scene"), fields.pop("task"), **fields)
+
+
+def run_memory(cfg: ScenarioConfig) -> float:
+    """Bytes a whole run of ``cfg`` holds in memory at its end: every subject's per-tick records of every
+    mode over the schedule (repetitions × takt at the ergonomics rate)."""
+    from ergosim.twin.records import TICK_COLUMNS  # noqa: PLC0415
+
+    ticks = cfg.pacing.horizon * cfg.sensing.ergonomics_rate
+    columns = len(TICK_COLUMNS) * _TICK_BYTES_PER_COLUMN
+    return float(cfg.population.subjects) * len(cfg.modes) * ticks * columns

@@ -141,7 +141,8 @@ class Session:
             self._worker_end(carry)
         ok = finished and self._settle(geom, 0.5)
         status = "ok" if ok else ("timeout" if not finished else "not_completed")
-        return Outcome(ok, status, t0, plant.time)
+        why = self.cell.why_not_done(geom) if status == "not_completed" else ""
+        return Outcome(ok, status, t0, plant.time, why)
 
     # -- the robot does an action --------------------------------------------------------------------------
     def _robot_action(self, geom) -> Outcome:
@@ -168,7 +169,8 @@ class Session:
         if geom.seats:
             self.cell.seat(geom.part)
         ok = self._settle(geom, 1.0)
-        return Outcome(ok, "ok" if ok else "not_completed", t0, plant.time)
+        return Outcome(ok, "ok" if ok else "not_completed", t0, plant.time,
+                       "" if ok else f"the robot's skill ended, but {self.cell.why_not_done(geom)}")
 
     def _robot_failure(self, t0: float) -> Outcome:
         self.plant.run_until(lambda: self.robot.done, _ACTION_TIMEOUT)

@@ -225,7 +225,8 @@ class TeamSession(Session):
             if self.completed(job.geom):
                 self._finish_worker(job, Outcome(True, "ok", job.t0, plant.time))
             elif plant.ticks >= job.settle_until:
-                self._finish_worker(job, Outcome(False, "not_completed", job.t0, plant.time))
+                self._finish_worker(job, Outcome(False, "not_completed", job.t0, plant.time,
+                                                 self.cell.why_not_done(job.geom)))
 
     def _poll_robot(self, job: _Job) -> None:
         plant, track = self.plant, job.track
@@ -263,7 +264,8 @@ class TeamSession(Session):
             if self.completed(job.geom):
                 self._robot_outcome(job, Outcome(True, "ok", job.t0, plant.time))
             elif plant.ticks >= job.settle_until:
-                self._robot_outcome(job, Outcome(False, "not_completed", job.t0, plant.time))
+                why = f"the robot's skill ended, but {self.cell.why_not_done(job.geom)}"
+                self._robot_outcome(job, Outcome(False, "not_completed", job.t0, plant.time, why))
 
     # -- ending jobs -----------------------------------------------------------------------------------------
     def _finish_worker(self, job: _Job, out: Outcome) -> None:

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ergosim.atomic import check_output_file
 from ergosim.errors import RenderError
 
 __all__ = ["Mp4Writer", "ffmpeg_exe", "gif_from_mp4", "read_mp4"]
@@ -31,6 +32,7 @@ def ffmpeg_exe() -> str:
 
 
 def _temp_beside(target: Path, suffix: str) -> Path:
+    check_output_file(target, where=str(target))
     target.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=f".tmp{suffix}", dir=target.parent)
     os.close(fd)

@@ -43,7 +43,8 @@ __all__ = [
 GROUPS = ("robot", "human", "parts", "scene")
 """Groups of bodies under ``world/``; body_groups maps body name -> one of these."""
 
-SIM_TIME = "sim_time"
+SIM_TIME = "simulated time"
+"""The timeline of simulated seconds; its name is as wide as the log column of its values ("+62.916 667s")."""
 REPETITION = "repetition"
 
 WORLD = "world"

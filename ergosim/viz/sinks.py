@@ -22,6 +22,7 @@ from pathlib import Path
 
 import rerun as rr
 
+from ergosim.atomic import check_output_file
 from ergosim.errors import ConfigError
 from ergosim.viz.blueprint import build_blueprint
 from ergosim.viz.recorder import TwinRecorder
@@ -60,10 +61,7 @@ def plan_sinks(rrd: str | os.PathLike[str] | None = None, spawn: bool = False,
     """
     path = None
     if rrd is not None:
-        path = Path(rrd)
-        if path.is_dir():
-            raise ConfigError(f"{path} is a directory; expected the path of the .rrd file to write",
-                              where="--rrd")
+        path = check_output_file(rrd, where="--rrd")
     urls = [DEFAULT_URL] if spawn else []
     if connect is not None:
         url = DEFAULT_URL if connect == "default" else connect
@@ -155,7 +153,7 @@ class _PendingFile:
     """A temporary sibling of ``target`` that becomes ``target`` on commit."""
 
     def __init__(self, target: Path) -> None:
-        self.target = target
+        self.target = check_output_file(target, where="--rrd")
         target.parent.mkdir(parents=True, exist_ok=True)
         fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
         os.close(fd)

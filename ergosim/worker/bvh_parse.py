@@ -183,7 +183,11 @@ def _parse(text: str | bytes, source: str) -> BvhData:
     tk.keyword("ROOT")
     name, line = tk.next("the root joint's name")
     joints: list[BvhJoint] = []
-    n_channels = _parse_joint(tk, name, line, -1, joints, 0)
+    try:
+        n_channels = _parse_joint(tk, name, line, -1, joints, 0)
+    except RecursionError:  # joints nest by recursion; a skeleton is tens of levels deep, not hundreds
+        raise RecordingError(f"the HIERARCHY nests joints more than {len(joints)} levels deep; not a "
+                             "skeleton", where=source) from None
     if tk.peek() is not None:
         tok, line = tk.next("")
         what = "only one ROOT is supported" if tok.upper() == "ROOT" else f"unexpected {tok!r} after the root"

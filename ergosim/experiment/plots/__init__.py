@@ -86,7 +86,9 @@ def write_plots(out: str | Path, subjects: Sequence[int] | None = None) -> list[
         save_figure(fig, out / name)
         written.append(name)
 
-    ticks = read_ticks(out, chosen)
+    every = read_ticks(out)
+    ticks = {m: {s: t for s, t in by.items() if chosen is None or s in chosen} for m, by in every.items()}
+    peaks = {(m, s): float(np.max(t.kwear)) for m, by in every.items() for s, t in by.items() if len(t.kwear)}
     for mode in info.modes:
         if ticks.get(mode):
             title = f"{info.scenario}: KWear per joint, mode {mode}"
@@ -94,7 +96,7 @@ def write_plots(out: str | Path, subjects: Sequence[int] | None = None) -> list[
                                  title=title), f"kwear_timeline_{mode}.png")
     ran = [m for m in info.modes if any(r.mode == m for r in rows)]
     if len(ran) >= 2:
-        save(modes_figure(rows, ran, scenario=info.scenario), "kwear_modes.png")
+        save(modes_figure(rows, ran, scenario=info.scenario, peaks=peaks, v_th=info.v_th), "kwear_modes.png")
     traces = read_action_traces(out)
     shown = chosen[0] if chosen else (min(s for s, _ in traces) if traces else None)
     mine = {a: tv for (s, a), tv in traces.items() if s == shown}
