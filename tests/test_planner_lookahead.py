@@ -16,6 +16,7 @@ from ergosim.ergonomics.kwear import KWearParams, kwear_step
 from ergosim.errors import ConfigError, InfeasiblePlanError
 from ergosim.planner import Agent, AndOrGraph, Operation, bundled_task, generate_task, parse_task
 from ergosim.planner.lookahead import SearchLimits, lookahead_plan
+from ergosim.planner.lookahead_team import TeamState, lookahead_team
 from ergosim.planner.transitions import transitions
 from ergosim.planner.wear_chain import WearModel, price_sequence
 
@@ -23,14 +24,15 @@ KW = KWearParams()
 
 
 def _model(graph, rng, *, robot_cost=2.5, takt=math.inf, takt_weight=0.0, time_weight=0.0, alpha_low=0.6,
-           gamma=100.0, v_th=0.8):
+           gamma=100.0, v_th=0.8, takes=None):
     names = [a.name for a in graph.agents]
     human = next(a.name for a in graph.agents if a.kind == "human")
     alphas = {a: rng.uniform(alpha_low, 1.0, 5) for a in graph.actions}
     durations = {(a, n): float(rng.uniform(1.0, 20.0)) for a in graph.actions for n in names}
     return WearModel.build(graph.actions, names, human, alphas=alphas, kwear=KW,
                            cost=CostParams(gamma=gamma, v_th=v_th, robot_cost=robot_cost),
-                           durations=durations, takt=takt, takt_weight=takt_weight, time_weight=time_weight)
+                           durations=durations, takt=takt, takt_weight=takt_weight, time_weight=time_weight,
+                           takes=takes)
 
 
 def _brute_force(graph, model, v, done, pruned, elapsed):
@@ -231,3 +233,111 @@ def test_action_once_detection():
     assert transitions(bundled_task("gearbox")).action_once
     assert transitions(bundled_task("corner-joint:multi-subject")).action_once
     assert transitions(generate_task("scarce:6", agents=2)).action_once
+
+
+# -- parallel: schedules ------------------------------------------------------------------------------------
+def _schedule_cost(graph, model, team, steps):
+    """A scalar list scheduler (the module docstring of lookahead_team, step by step): the cost of a
+    priority list of (operation, agent)."""
+    human = next(a.name for a in graph.agents if a.kind == "human")
+    free = {a.name: team.now for a in graph.agents} | dict(team.free)
+    free[human] = max(team.worker_free, team.now)
+    ready = {p: team.now for p in graph.parts}
+    begun = {p: team.now for p in graph.parts}
+    for name, t in team.running.items():
+        for p in graph.operation(name).father:
+            ready[p] = max(t, team.now)
+    v, w_last = np.array(team.v, dtype=float), free[human]
+    end = max([team.now, *free.values(), *ready.values()])
+    total = 0.0
+    for op_name, agent in steps:
+        op = graph.operation(op_name)
+        a, j = model.action_index[op.action], model.agent_index[agent]
+        d = model.duration[a, j]
+        reserved = team.reserved.get(op.action) == agent
+        take = 0.0 if agent == human else d - model.rest[a, j]
+        fetch = 0.0 if reserved else d - take
+        if reserved:
+            d = take
+        t_ready = max(ready[p] for p in op.father)
+        if agent == human:
+            start = max(free[agent], t_ready)
+            v = v * math.exp(-model.rest_rate * max(0.0, start - w_last))
+            v = 1.0 - model.alpha[a] * (1.0 - v)
+            total += float(model.price(v))
+            finish = w_last = free[agent] = start + d
+        elif take > 0:
+            start = max(free[agent], *(begun[p] for p in op.father))
+            at = max(start + fetch, free[human], t_ready)
+            v = v * math.exp(-model.rest_rate * max(0.0, at - w_last))
+            finish = w_last = free[human] = free[agent] = at + take
+            total += 0.0 if reserved else float(model.agent_cost[j])
+        else:
+            start = max(free[agent], t_ready)
+            finish = free[agent] = start + d
+            total += 0.0 if reserved else float(model.agent_cost[j])
+        for p in op.father:
+            ready[p], begun[p] = finish, start
+        new_end = max(end, finish)
+        total += model.takt_weight * (max(0.0, new_end - model.takt) - max(0.0, end - model.takt))
+        total += model.time_weight * (new_end - end)
+        end = new_end
+    return total
+
+
+def _team_brute_force(graph, model, team, done, pruned):
+    view = transitions(graph)
+    ops, agents = graph.operations, graph.agents
+    best = math.inf
+    stack = [(view.start(list(done) + list(team.running)), [])]
+    while stack:
+        cid, path = stack.pop()
+        if view.complete(cid):
+            best = min(best, _schedule_cost(graph, model, team, path))
+            continue
+        s = view.successors(cid)
+        for k, j, nxt in zip(s.op.tolist(), s.agent.tolist(), s.next.tolist(), strict=True):
+            key = (ops[k].action, agents[j].name)
+            holder = team.reserved.get(ops[k].action)
+            if (holder is None and key in pruned) or holder not in (None, key[1]):  # a reservation holds
+                continue
+            stack.append((nxt, path + [(ops[k].name, agents[j].name)]))
+    return best
+
+
+@SETTINGS
+@given(st.data())
+def test_team_search_matches_brute_force_on_random_liaison_graphs(data):
+    graph = data.draw(liaison_graphs())
+    done, _, pruned = data.draw(calls(graph))
+    rng = np.random.default_rng(data.draw(st.integers(0, 2**16)))
+    takes = {(a, "robot"): float(rng.uniform(0.5, 3.0)) for a in graph.actions if rng.random() < 0.5}
+    model = _model(graph, rng, robot_cost=float(rng.uniform(0.9, 4.0)), takt=float(rng.uniform(5.0, 60.0)),
+                   takt_weight=float(rng.choice([0.0, 0.3])), time_weight=float(rng.choice([0.0, 0.05, 0.3])),
+                   takes=takes)
+    now = float(rng.uniform(0.0, 5.0))
+    config = set(graph.configuration(done))
+    ready = [op for op in graph.operations if op.name not in done and set(op.children) <= config]
+    running = {}
+    if ready and data.draw(st.booleans()):  # one operation under way, held until its predicted end
+        running[data.draw(st.sampled_from(ready)).name] = now + float(rng.uniform(0.0, 4.0))
+    made = {graph.operation(o).action for o in done + list(running)}
+    reserved = {}
+    left = sorted({a for a, agent in takes if a not in made})
+    if left and data.draw(st.booleans()):  # a robot fetching a part to hand it over
+        reserved[data.draw(st.sampled_from(left))] = "robot"
+    team = TeamState(now, rng.uniform(0.0, 0.6, 5), now + float(rng.choice([0.0, 2.0])),
+                     {"robot": now + float(rng.choice([0.0, 3.0]))}, running, reserved)
+    best = _team_brute_force(graph, model, team, done, pruned)
+    if not math.isfinite(best):
+        with pytest.raises(InfeasiblePlanError):
+            lookahead_team(graph, model, team, done=done, pruned=pruned)
+        return
+    got = lookahead_team(graph, model, team, done=done, pruned=pruned, idle=["human", "robot"],
+                         limits=SearchLimits(exact_actions=99, max_expansions=10**7))
+    assert got.plan.exact and got.plan.cost == pytest.approx(best, rel=1e-9, abs=1e-9)
+    beam = lookahead_team(graph, model, team, done=done, pruned=pruned,
+                          limits=SearchLimits(exact_actions=0, beam_width=2))
+    assert beam.plan.cost >= best - 1e-9 * max(1.0, best)
+    assert beam.plan.lower_bound <= best + 1e-9 * max(1.0, best)
+    assert all(s.agent in ("human", "robot") for s in got.starts) and len(got.starts) <= 2

@@ -43,7 +43,8 @@ class Pricing:
         self.alpha = model.alpha[acts]
         self.duration = model.duration[np.ix_(acts, agents)]
         self.rest_s = model.rest[np.ix_(acts, agents)]
-        self.cost = model.agent_cost[agents]
+        self.cost = np.repeat(model.agent_cost[agents][None, :], len(acts), axis=0)
+        """(A, N) the price of a robot's step (c_r; a pricing may override pairs for its call)."""
         found = np.flatnonzero(agents == model.human)
         self.human = int(found[0]) if len(found) else -1
         self.k = model.rest_rate
@@ -55,12 +56,17 @@ class Pricing:
                 raise ConfigError(f"pruned pairs are known (action, agent) pairs, got {key!r}",
                                   where="pruned")
             self.allowed[act_of[key[0]], agent_of[key[1]]] = False
+        self.derive()
+
+    def derive(self) -> None:
+        """The per-call summaries of the arrays (again after a pricing overrides some of them)."""
         self.unpruned = bool(np.array_equal(self.allowed, self.view.allowed))
         robots = self.allowed.copy()
         if self.human >= 0:
             robots[:, self.human] = False
-        self.robot_min = np.where(robots, self.cost[None, :], np.inf).min(axis=1, initial=np.inf)
-        self.human_ok = self.allowed[:, self.human] if self.human >= 0 else np.zeros(len(act_of), bool)
+        self.robot_min = np.where(robots, self.cost, np.inf).min(axis=1, initial=np.inf)
+        self.human_ok = (self.allowed[:, self.human] if self.human >= 0
+                         else np.zeros(len(self.allowed), dtype=bool))
         self.min_duration = np.where(self.allowed, self.duration, np.inf).min(axis=1, initial=np.inf)
         self.min_duration[~np.isfinite(self.min_duration)] = 0.0
         self.max_rest = np.where(robots, self.rest_s, 0.0).max(axis=1, initial=0.0)
@@ -128,7 +134,7 @@ class SequentialPricing(Pricing):
         v_hat = 1.0 - self.alpha[action] * (1.0 - v)
         rested = v * np.exp(-self.k * self.rest_s[action, agent])[:, None]
         v_new = np.where(human[:, None], v_hat, rested)
-        price = np.where(human, self.model.price(v_hat), self.cost[agent])
+        price = np.where(human, self.model.price(v_hat), self.cost[action, agent])
         t_new = t + self.duration[action, agent]
         return (g + price + self.time_terms(t, t_new), v_new, t_new), price, t
 

@@ -69,6 +69,9 @@ class Transitions:
             self.allowed[self.op_action[k], agents] = True
         """(A, N) bool: the agent has a hyper-arc for some operation of the action."""
         self.root = (1 << len(graph.parts)) - 1
+        self.father_parts = np.array([[f >> i & 1 for i in range(len(graph.parts))] for f in self.father],
+                                     dtype=bool).reshape(len(self.father), len(graph.parts))
+        """(operations, P) bool: the parts of each operation's father."""
         self._ids: dict[frozenset[int], int] = {}
         self.configs: list[frozenset[int]] = []
         self._succ: list[Successors | None] = []
