@@ -18,13 +18,13 @@ from ergosim.planner import Agent, AndOrGraph, Operation, bundled_task, generate
 from ergosim.planner.lookahead import SearchLimits, lookahead_plan
 from ergosim.planner.lookahead_team import TeamState, lookahead_team
 from ergosim.planner.transitions import transitions
-from ergosim.planner.wear_chain import WearModel, price_sequence
+from ergosim.planner.wear_chain import WearModel, next_cost, price_sequence
 
 KW = KWearParams()
 
 
 def _model(graph, rng, *, robot_cost=2.5, takt=math.inf, takt_weight=0.0, time_weight=0.0, alpha_low=0.6,
-           gamma=100.0, v_th=0.8, takes=None):
+           gamma=100.0, v_th=0.8, takes=None, next_weight=0.0):
     names = [a.name for a in graph.agents]
     human = next(a.name for a in graph.agents if a.kind == "human")
     alphas = {a: rng.uniform(alpha_low, 1.0, 5) for a in graph.actions}
@@ -32,7 +32,8 @@ def _model(graph, rng, *, robot_cost=2.5, takt=math.inf, takt_weight=0.0, time_w
     return WearModel.build(graph.actions, names, human, alphas=alphas, kwear=KW,
                            cost=CostParams(gamma=gamma, v_th=v_th, robot_cost=robot_cost),
                            durations=durations, takt=takt, takt_weight=takt_weight, time_weight=time_weight,
-                           takes=takes)
+                           takes=takes, next_weight=next_weight,
+                           robot_actions=[a for a in graph.actions if rng.random() < 0.8])
 
 
 def _brute_force(graph, model, v, done, pruned, elapsed):
@@ -117,7 +118,7 @@ def _check(graph, data):
     rng = np.random.default_rng(seed)
     model = _model(graph, rng, robot_cost=float(rng.uniform(0.9, 4.0)), takt=float(rng.uniform(5.0, 60.0)),
                    takt_weight=float(rng.choice([0.0, 0.3])), time_weight=float(rng.choice([0.0, 0.05])),
-                   v_th=float(rng.uniform(0.4, 0.85)))
+                   v_th=float(rng.uniform(0.4, 0.85)), next_weight=float(rng.choice([0.0, 1.0])))
     v = rng.uniform(0.0, 0.7, 5)
     elapsed = float(rng.uniform(0.0, 10.0))
     best = _brute_force(graph, model, v, done, pruned, elapsed)
@@ -282,7 +283,7 @@ def _schedule_cost(graph, model, team, steps):
         total += model.takt_weight * (max(0.0, new_end - model.takt) - max(0.0, end - model.takt))
         total += model.time_weight * (new_end - end)
         end = new_end
-    return total
+    return total + float(next_cost(model, v * math.exp(-model.rest_rate * max(0.0, end - w_last))))
 
 
 def _team_brute_force(graph, model, team, done, pruned):
@@ -314,7 +315,7 @@ def test_team_search_matches_brute_force_on_random_liaison_graphs(data):
     takes = {(a, "robot"): float(rng.uniform(0.5, 3.0)) for a in graph.actions if rng.random() < 0.5}
     model = _model(graph, rng, robot_cost=float(rng.uniform(0.9, 4.0)), takt=float(rng.uniform(5.0, 60.0)),
                    takt_weight=float(rng.choice([0.0, 0.3])), time_weight=float(rng.choice([0.0, 0.05, 0.3])),
-                   takes=takes)
+                   takes=takes, next_weight=float(rng.choice([0.0, 1.0])))
     now = float(rng.uniform(0.0, 5.0))
     config = set(graph.configuration(done))
     ready = [op for op in graph.operations if op.name not in done and set(op.children) <= config]

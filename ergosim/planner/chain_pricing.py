@@ -21,7 +21,7 @@ import numpy as np
 
 from ergosim.errors import ConfigError
 from ergosim.planner.transitions import Transitions, transitions
-from ergosim.planner.wear_chain import WearModel
+from ergosim.planner.wear_chain import WearModel, next_cost
 
 __all__ = ["Pricing", "SequentialPricing"]
 
@@ -116,6 +116,15 @@ class Pricing:
     def estimate(self, state, need: np.ndarray, *, lowest: bool) -> np.ndarray:
         raise NotImplementedError
 
+    def end_wear(self, state) -> np.ndarray:
+        """(n, p) the worker's V when the repetition of each (complete) sequence ends."""
+        raise NotImplementedError
+
+    def terminal(self, state) -> np.ndarray:
+        """What a complete sequence adds for the wear it leaves
+        (:func:`~ergosim.planner.wear_chain.next_cost`)."""
+        return next_cost(self.model, self.end_wear(state))
+
     def dominance(self, state) -> np.ndarray | None:
         """(n, m) keys such that a row no greater in every key and in cost can do no worse from the same
         configuration; None when no such order holds (no pruning by dominance)."""
@@ -144,7 +153,11 @@ class SequentialPricing(Pricing):
         _, v, t = state
         if lowest:  # the worker rests at most while a robot does every needed action it may do (eq. 5)
             v = v * np.exp(-self.k * (need * self.max_rest).sum(axis=1))[:, None]
-        return self.needed_cost(need, v) + self.time_terms(t, t + (need * self.min_duration).sum(axis=1))
+        return (self.needed_cost(need, v) + self.time_terms(t, t + (need * self.min_duration).sum(axis=1))
+                + next_cost(self.model, v))
+
+    def end_wear(self, state):
+        return state[1]
 
     def dominance(self, state):
         _, v, t = state

@@ -126,9 +126,10 @@ class SequenceSearch:
             levels.append([parent, op, agent, price, start, None])
             if done.any():
                 idx = np.flatnonzero(done)
-                i = int(idx[np.lexsort((op[idx], agent[idx], g[idx]))[0]])
-                if best is None or g[i] < best[0] - tolerance(best[0]):
-                    best = (float(g[i]), len(levels) - 1, i)
+                total = g[idx] + pricing.terminal(_take(child, idx))
+                k = int(np.lexsort((op[idx], agent[idx], total))[0])
+                if best is None or total[k] < best[0] - tolerance(best[0]):
+                    best = (float(total[k]), len(levels) - 1, int(idx[k]))
             live = np.flatnonzero(~done)
             if not len(live):
                 break
@@ -176,6 +177,7 @@ class SequenceSearch:
     def _dfs(self, cid: int, state) -> None:
         g = float(state[0][0])
         if self.view.complete(cid):
+            g += float(self.pricing.terminal(state)[0])
             if self._best is None or g < self._best[0] - tolerance(self._best[0]):
                 self._best = (g, list(self._path))
             return
@@ -208,7 +210,8 @@ def search_sequences(pricing: Pricing, cid0: int, state0, limits: SearchLimits) 
     id) and the pricing's start ``state0``: exact or beam as ``limits`` say (module docstring)."""
     view = pricing.view
     if view.complete(cid0):
-        return LookaheadPlan((), 0.0, 0.0, True, 0)
+        left = float(pricing.terminal(state0)[0])
+        return LookaheadPlan((), left, left, True, 0)
     search = SequenceSearch(pricing)
     found = search.beam(cid0, state0, limits.beam_width)
     exact = False

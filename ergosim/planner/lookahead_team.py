@@ -35,7 +35,7 @@ from ergosim.errors import ConfigError
 from ergosim.planner.chain_pricing import Pricing
 from ergosim.planner.lookahead import LookaheadPlan, SearchLimits, search_sequences
 from ergosim.planner.plan import PlanStep
-from ergosim.planner.wear_chain import WearModel
+from ergosim.planner.wear_chain import WearModel, next_cost
 
 __all__ = ["TeamState", "TeamPricing", "TeamLookahead", "lookahead_team"]
 
@@ -153,11 +153,16 @@ class TeamPricing(Pricing):
             robot_time[:, h] = 0.0
             idle = np.maximum(0.0, free.max(axis=1) - w_last) + (need * robot_time.max(axis=1)).sum(axis=1)
             v = v * np.exp(-self.k * idle)[:, None]
+        after = next_cost(self.model, v)
         work = (need * self.min_duration).sum(axis=1)
         alone = (need & ~np.isfinite(self.robot_min)) * self.duration[:, h]
         t_end = np.maximum.reduce([end, free.min(axis=1) + work / free.shape[1],
                                    free[:, h] + alone.sum(axis=1)])
-        return self.needed_cost(need, v) + self.time_terms(end, t_end)
+        return self.needed_cost(need, v) + self.time_terms(end, t_end) + after
+
+    def end_wear(self, state):
+        _, v, w_last, _, _, _, end = state
+        return v * np.exp(-self.k * np.maximum(0.0, end - w_last))[:, None]
 
 
 @dataclass(frozen=True)

@@ -16,6 +16,9 @@ end passes the takt (those the plan adds: an overrun already incurred is the sam
 ``time_weight`` × the plan's predicted duration (its critical path when agents work in parallel). With
 both weights 0 and every action priced from V(t_k), the cost is the paper's.
 
+A plan ends with its repetition; the wear it leaves is priced as the next repetition would see it
+(``next_weight``, :func:`next_cost`), so rest at a repetition's end counts as much as rest at its start.
+
 Arrays: p risk channels (the five KWear joints), A actions (the graph's ``actions`` order), N agents (the
 graph's ``agents`` order). Times in seconds, costs dimensionless.
 """
@@ -32,7 +35,8 @@ from ergosim.ergonomics.cost import CostParams
 from ergosim.ergonomics.kwear import KWearParams
 from ergosim.errors import ConfigError
 
-__all__ = ["WearModel", "SequencePrice", "rest_factor", "worker_prices", "price_sequence", "takt_penalty"]
+__all__ = ["WearModel", "SequencePrice", "rest_factor", "worker_prices", "next_cost", "price_sequence",
+           "takt_penalty"]
 
 
 def rest_factor(seconds, rest_rate: float):
@@ -55,7 +59,8 @@ class WearModel:
     each (action, agent) [s], 0 where unknown. ``rest`` (A, N): the seconds of that duration the worker
     rests while a robot acts (a robot's handover ends with the worker taking the part: that take is not
     rest; its wear is not predicted). ``takt`` [s], ``takt_weight`` [cost per s past the takt],
-    ``time_weight`` [cost per s of the plan's duration].
+    ``time_weight`` [cost per s of the plan's duration]. ``next_weight``: weight of the wear the plan leaves
+    to the next repetition (:func:`next_cost`); ``robot_ok`` (A,): actions some robot may do.
     """
 
     actions: tuple[str, ...]
@@ -70,6 +75,8 @@ class WearModel:
     takt: float = math.inf
     takt_weight: float = 0.0
     time_weight: float = 0.0
+    next_weight: float = 0.0
+    robot_ok: np.ndarray | None = None
     v_th: np.ndarray = field(init=False, repr=False)
     action_index: dict = field(init=False, repr=False)
     agent_index: dict = field(init=False, repr=False)
@@ -85,7 +92,11 @@ class WearModel:
             if arr.shape != (a, n) or not np.all(np.isfinite(arr) & (arr >= 0)):
                 raise ConfigError(f"{name} must be ({a}, {n}) finite seconds >= 0", where=f"WearModel.{name}")
             object.__setattr__(self, name, arr)
-        for name in ("rest_rate", "takt_weight", "time_weight"):
+        robot_ok = np.ones(a, dtype=bool) if self.robot_ok is None else np.array(self.robot_ok, dtype=bool)
+        if robot_ok.shape != (a,):
+            raise ConfigError(f"robot_ok must be ({a},) booleans", where="WearModel.robot_ok")
+        object.__setattr__(self, "robot_ok", robot_ok)
+        for name in ("rest_rate", "takt_weight", "time_weight", "next_weight"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0):
                 raise ConfigError(f"{name} must be finite and >= 0, got {value!r}", where=f"WearModel.{name}")
@@ -104,10 +115,12 @@ class WearModel:
               durations: Mapping[tuple[str, str], float] | None = None,
               takes: Mapping[tuple[str, str], float] | None = None,
               robot_costs: Mapping[str, float] | None = None, takt: float = math.inf,
-              takt_weight: float = 0.0, time_weight: float = 0.0) -> WearModel:
+              takt_weight: float = 0.0, time_weight: float = 0.0, next_weight: float = 0.0,
+              robot_actions: Sequence[str] | None = None) -> WearModel:
         """From the run's dictionaries: ``alphas`` action -> (p,) α; ``durations`` (action, agent) -> s;
         ``takes`` (action, robot) -> the worker's seconds at the end of a robot's handover; ``robot_costs``
-        robot -> c_r (default ``cost.robot_cost`` for every agent but ``human``)."""
+        robot -> c_r (default ``cost.robot_cost`` for every agent but ``human``); ``robot_actions``: the
+        actions some robot may do (default all)."""
         actions, agents = tuple(actions), tuple(agents)
         if human not in agents:
             raise ConfigError(f"unknown human agent {human!r}; agents are {list(agents)}", where="WearModel")
@@ -128,8 +141,10 @@ class WearModel:
                 rest[i, j] = max(0.0, duration[i, j] - seconds)
         agent_cost = np.array([math.nan if x == human else float((robot_costs or {}).get(x, cost.robot_cost))
                                for x in agents])
+        robot_ok = None if robot_actions is None else np.array([a in set(robot_actions) for a in actions])
         return cls(actions, agents, agents.index(human), alpha, kwear.r / kwear.C, cost, agent_cost, duration,
-                   rest, takt=takt, takt_weight=takt_weight, time_weight=time_weight)
+                   rest, takt=takt, takt_weight=takt_weight, time_weight=time_weight, next_weight=next_weight,
+                   robot_ok=robot_ok)
 
     def price(self, v_hat: np.ndarray) -> np.ndarray:
         """Eq. 10-11 for predictions (..., p): Σ_i V̂_i + Γ·[V̂_i ≥ V_th,i] (as
@@ -137,6 +152,18 @@ class WearModel:
         step)."""
         over = v_hat >= self.v_th
         return v_hat.sum(axis=-1) + self.cost.gamma * over.sum(axis=-1)
+
+
+def next_cost(model: WearModel, v) -> np.ndarray:
+    """The wear a plan leaves, priced as the next repetition: ``next_weight`` × Σ over the actions of the
+    cheaper of the worker's order-free price from ``v`` (..., p) (eq. 9-11) and the cheapest robot's c_r
+    (where a robot may do it) -> (...). Without it, rest at a repetition's end would be worth nothing to the
+    plan and rest at its start everything: the look-ahead would give robots the first actions."""
+    if model.next_weight == 0:
+        return np.zeros(np.shape(v)[:-1])
+    robot = np.nanmin(model.agent_cost) if np.isfinite(model.agent_cost).any() else np.inf
+    cap = np.where(model.robot_ok, robot, np.inf)
+    return model.next_weight * np.minimum(worker_prices(model, v), cap).sum(axis=-1)
 
 
 def worker_prices(model: WearModel, v: np.ndarray) -> np.ndarray:
@@ -148,15 +175,16 @@ def worker_prices(model: WearModel, v: np.ndarray) -> np.ndarray:
 @dataclass(frozen=True)
 class SequencePrice:
     """A sequential plan priced along its chain: ``total`` = ``ergonomic`` (Σ worker prices, eq. 10-11 on
-    the chained V̂) + ``robot`` (Σ c_r) + ``takt`` + ``time``; ``v_hat`` (k, p) the V after each step (for a
-    robot step, after its rest); ``v_end`` (p,); ``end``: the predicted time after the plan, from the
-    repetition's start [s]."""
+    the chained V̂) + ``robot`` (Σ c_r) + ``takt`` + ``time`` + ``next`` (:func:`next_cost` of ``v_end``);
+    ``v_hat`` (k, p) the V after each step (for a robot step, after its rest); ``v_end`` (p,); ``end``: the
+    predicted time after the plan, from the repetition's start [s]."""
 
     total: float
     ergonomic: float
     robot: float
     takt: float
     time: float
+    next: float
     v_hat: np.ndarray
     v_end: np.ndarray
     end: float
@@ -182,5 +210,6 @@ def price_sequence(model: WearModel, v0, elapsed: float, steps: Sequence[tuple[s
     takt = float(takt_penalty(t, model.takt, model.takt_weight) - takt_penalty(elapsed, model.takt,
                                                                                   model.takt_weight))
     time = model.time_weight * (t - elapsed)
-    return SequencePrice(ergonomic + robot + takt + time, ergonomic, robot, takt, time,
+    after = float(next_cost(model, v))
+    return SequencePrice(ergonomic + robot + takt + time + after, ergonomic, robot, takt, time, after,
                          np.array(trail).reshape(len(trail), v.size), v, t)

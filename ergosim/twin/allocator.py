@@ -16,6 +16,7 @@ import numpy as np
 from ergosim.ergonomics.cost import CostParams, risk_costs
 from ergosim.ergonomics.risk_index import RiskIndex
 from ergosim.planner import AndOrGraph
+from ergosim.twin.durations import expected_durations
 from ergosim.twin.modes import Mode
 
 __all__ = ["Decision", "Allocator"]
@@ -77,6 +78,17 @@ class Allocator:
         """Weight of the time term [cost per s]: w_time × expected duration is added to every hyper-arc."""
         self.durations = dict(durations or {})
         """(action, agent) -> expected duration [s] (ergosim.twin.durations)."""
+
+    def prepare(self, *, cfg, cell, robots, human_seconds: Mapping[str, float]) -> None:
+        """Before the first decision: the time term's expected durations (protocol ``w_time`` > 0) from the
+        cell, its robots (name -> RobotTrack) and the worker's calibrated ``human_seconds``."""
+        if cfg.w_time > 0:
+            self.w_time = cfg.w_time
+            self.durations = expected_durations(cell, robots, self.allowed, self.human, human_seconds)
+
+    def observe(self, action: str, agent: str, seconds: float) -> None:
+        """``agent`` completed ``action`` in ``seconds`` (sequential execution); the paper's rule does not use
+        it."""
 
     def action_of(self, operation: str) -> str:
         return self._action_of[operation]

@@ -10,10 +10,13 @@ Bundled modes:
 - ``hrc``: KWear-driven allocation (eq. 9-11), the paper's framework;
 - ``rula``: the static RULA baseline of §7.1 (a constant G(a_k) per action against G_th);
 - ``h-only``: the worker does everything and waits for the takt (§7.2's H only);
-- ``r-only``: every action a robot may do goes to a robot.
+- ``r-only``: every action a robot may do goes to a robot;
+- ``kwear-lookahead``: the paper's KWear costs chained along the plan, with recovery and the takt; the next
+  (action, agent) starts the cheapest sequence (:mod:`ergosim.twin.lookahead_allocator`).
 
 Add a mode with :func:`register_mode` (a new module that calls it is enough), a risk index with
-:func:`register_risk_index`.
+:func:`register_risk_index`. A mode that decides differently from AO* on the order-free costs brings its own
+allocator factories (``allocator``, ``team_allocator``).
 """
 
 from __future__ import annotations
@@ -77,6 +80,12 @@ class Mode:
     uses_robot: bool = True
     table_key: str | None = None
     paired_with: str | None = None
+    allocator: Callable[..., object] | None = None
+    """Builds the mode's sequential allocator from (graph, mode, index=, cost=, planner=); None: the paper's
+    :class:`~ergosim.twin.allocator.Allocator` (AO* on the order-free costs)."""
+    team_allocator: Callable[..., object] | None = None
+    """Builds its parallel decisions from (allocator, early=, margin=); None: the team rule of issue 17
+    (:class:`~ergosim.twin.team_allocator.TeamAllocator`)."""
 
     def pruned(self, allowed: Mapping[str, set[str]], human: str,
                robots: tuple[str, ...]) -> set[tuple[str, str]]:
@@ -184,3 +193,20 @@ register_mode(Mode("rula", "static RULA baseline (paper §7.1, Table 1)", risk_i
 register_mode(Mode("h-only", "the worker does everything and waits for the takt (paper §7.2)",
                    prune=_human_only, waits_for_takt=True, uses_robot=False))
 register_mode(Mode("r-only", "every action a robot may do goes to a robot", prune=_robot_first))
+
+
+def _lookahead(*args, **kwargs):
+    from ergosim.twin.lookahead_allocator import LookaheadAllocator  # noqa: PLC0415 - it imports this module
+
+    return LookaheadAllocator(*args, **kwargs)
+
+
+def _lookahead_team(*args, **kwargs):
+    from ergosim.twin.lookahead_team_allocator import LookaheadTeamAllocator  # noqa: PLC0415 - as above
+
+    return LookaheadTeamAllocator(*args, **kwargs)
+
+
+register_mode(Mode("kwear-lookahead", "KWear costs chained along the plan, with recovery and the takt",
+                   risk_index="kwear", table_key="kwear-lookahead", paired_with="hrc", allocator=_lookahead,
+                   team_allocator=_lookahead_team))

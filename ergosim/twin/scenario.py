@@ -18,7 +18,7 @@ from ergosim.errors import ConfigError
 from ergosim.robot.trajectory import CONTACT_SPEED, TRANSIT_SPEED
 from ergosim.twin.modes import mode_names
 
-__all__ = ["ScenarioConfig", "EE_SPEED_MAX", "ETA_MAX_LIMIT", "TEAM_FIELDS"]
+__all__ = ["ScenarioConfig", "EE_SPEED_MAX", "ETA_MAX_LIMIT", "TEAM_FIELDS", "LOOKAHEAD_FIELDS"]
 
 EE_SPEED_MAX = 1.7
 """Largest end-effector speed [m/s]: the Franka Emika Panda's Cartesian translation limit (Franka Control
@@ -94,6 +94,18 @@ class ScenarioConfig:
     """Standard deviation of τ between subjects. Assumed."""
     refusal_slope: float = 0.05
     """s of the logistic refusal curve, in KWear units. Assumed."""
+    takt_weight: float | None = None
+    """kwear-lookahead: cost per second by which a plan's predicted end passes the takt; None: Γ/takt
+    (assumed: a whole takt of overrun costs as much as one joint past V_th, eq. 11)."""
+    lookahead_next: float = 1.0
+    """kwear-lookahead: weight of the wear a plan leaves, priced as the next repetition would see it
+    (ergosim.planner.wear_chain.next_cost); 0 ends the plan with its repetition."""
+    lookahead_exact: int = 8
+    """kwear-lookahead: search exactly when the remaining plan has at most this many actions (assumed: every
+    bundled task; ergosim.planner.lookahead)."""
+    lookahead_beam: int = 6
+    """kwear-lookahead: the beam's width otherwise (assumed: within the 5 ms decision budget on a 20-action
+    chain, scripts/bench_planner.py --lookahead)."""
 
     def validate(self, where: str = "scenario") -> None:
         def need(ok: bool, msg: str) -> None:
@@ -145,16 +157,23 @@ class ScenarioConfig:
         need(self.refusal_tolerance_sd >= 0, f"refusal_tolerance_sd must be >= 0, got "
              f"{self.refusal_tolerance_sd}")
         need(self.refusal_slope > 0, f"refusal_slope must be > 0, got {self.refusal_slope}")
+        need(self.takt_weight is None or self.takt_weight >= 0,
+             f"takt_weight must be >= 0 (cost per second past the takt) or none, got {self.takt_weight}")
+        need(self.lookahead_next >= 0, f"lookahead_next must be >= 0, got {self.lookahead_next}")
+        need(self.lookahead_exact >= 0, f"lookahead_exact must be >= 0 actions, got {self.lookahead_exact}")
+        need(self.lookahead_beam >= 1, f"lookahead_beam must be >= 1, got {self.lookahead_beam}")
 
     def record(self) -> dict:
         """The protocol as the outputs record it (``summary.json`` ``config``, ``run.json``): every field,
-        except the team-execution fields (:data:`TEAM_FIELDS`) while they keep their defaults, so a paper
-        protocol's outputs stay as they were."""
+        except the team-execution fields (:data:`TEAM_FIELDS`) and the look-ahead's
+        (:data:`LOOKAHEAD_FIELDS`) while they keep their defaults, so a paper protocol's outputs stay as they
+        were."""
         out = dict(vars(self))
-        defaults = {f.name: f.default for f in dataclasses.fields(self) if f.name in TEAM_FIELDS}
-        if all(out[k] == v for k, v in defaults.items()):
-            for k in TEAM_FIELDS:
-                out.pop(k)
+        for group in (TEAM_FIELDS, LOOKAHEAD_FIELDS):
+            defaults = {f.name: f.default for f in dataclasses.fields(self) if f.name in group}
+            if all(out[k] == v for k, v in defaults.items()):
+                for k in group:
+                    out.pop(k)
         return out
 
     def team_settings(self) -> dict:
@@ -170,3 +189,5 @@ class ScenarioConfig:
 TEAM_FIELDS = ("execution", "w_time", "team_margin", "negotiation", "refusal_tolerance",
                "refusal_tolerance_sd", "refusal_slope")
 """The protocol fields of team execution (issue 17)."""
+LOOKAHEAD_FIELDS = ("takt_weight", "lookahead_next", "lookahead_exact", "lookahead_beam")
+"""The protocol fields of the kwear-lookahead mode (issue 24)."""

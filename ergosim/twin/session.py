@@ -227,6 +227,8 @@ class Session:
             declined.clear()
             self.decisions.append(decision)
             out = self.perform(decision.action, decision.agent)
+            if out.ok:
+                alloc.observe(decision.action, decision.agent, out.t_end - out.t_start)
             attempt = sum(a.action == decision.action and a.status != "refused"
                           for a in self.allocations if a.repetition == rep) + 1
             if out.ok:

@@ -13,7 +13,7 @@ import numpy as np
 
 from ergosim.posture import KWEAR_JOINTS
 
-__all__ = ["allocation_reason"]
+__all__ = ["allocation_reason", "lookahead_reason"]
 
 
 def allocation_reason(chosen: tuple[str, str], *, v_hat: Mapping[str, np.ndarray],
@@ -58,3 +58,17 @@ def _cost_clause(action: str, agent: str, costs: Mapping[tuple[str, str], float]
         op = "<" if mine < cost else ("=" if mine == cost else ">")
         clauses.append(f"cost {agent} {mine:.2f} {op} {other} {cost:.2f}")
     return ", ".join(clauses)
+
+
+def lookahead_reason(action: str, agent: str, plan, cost: float, other: float, *, exact: bool,
+                     gap: float) -> str:
+    """E.g. ``"a2 → robot: starts the cheapest sequence a2·robot a3·human a4·human a5·human, 7.12 (exact);
+    a2 by another agent: 7.40"``. ``plan``: (action, agent) pairs in order; ``other``: the cheapest sequence
+    that gives ``action`` to another agent (NaN if not computed); ``gap``: how far the beam's sequence can be
+    from the optimum."""
+    steps = " ".join(f"{a}·{who}" for a, who in plan)
+    quality = "exact" if exact else f"beam, within {gap:.2f} of the optimum"
+    text = f"{action} → {agent}: starts the cheapest sequence {steps}, {cost:.2f} ({quality})"
+    if np.isfinite(other):
+        text += f"; {action} by another agent: {other:.2f}"
+    return text
