@@ -268,7 +268,8 @@ def _schedule_cost(graph, model, team, steps):
             total += float(model.price(v))
             finish = w_last = free[agent] = start + d
         elif take > 0:
-            start = max(free[agent], *(begun[p] for p in op.father))
+            part = team.moving.get((op.action, agent))
+            start = max(free[agent], ready[part] if part else max(begun[p] for p in op.father))
             at = max(start + fetch, free[human], t_ready)
             v = v * math.exp(-model.rest_rate * max(0.0, at - w_last))
             finish = w_last = free[human] = free[agent] = at + take
@@ -327,8 +328,9 @@ def test_team_search_matches_brute_force_on_random_liaison_graphs(data):
     left = sorted({a for a, agent in takes if a not in made})
     if left and data.draw(st.booleans()):  # a robot fetching a part to hand it over
         reserved[data.draw(st.sampled_from(left))] = "robot"
+    moving = {key: data.draw(st.sampled_from(graph.parts)) for key in takes if data.draw(st.booleans())}
     team = TeamState(now, rng.uniform(0.0, 0.6, 5), now + float(rng.choice([0.0, 2.0])),
-                     {"robot": now + float(rng.choice([0.0, 3.0]))}, running, reserved)
+                     {"robot": now + float(rng.choice([0.0, 3.0]))}, running, reserved, moving)
     best = _team_brute_force(graph, model, team, done, pruned)
     if not math.isfinite(best):
         with pytest.raises(InfeasiblePlanError):

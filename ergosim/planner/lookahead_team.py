@@ -10,10 +10,10 @@ HRT weighs makespan beside ergonomics in the same way):
   children exist (list scheduling: a semi-active schedule, no agent idles while its next step could start);
 - a worker step rests the worker from its last step to its start (eq. 5) and wears it over the step
   (eq. 9), priced Σ γ_i (eq. 10-11);
-- a robot step costs c_r; a robot's handover fetches the part from when the robot is free and the
-  operation's other children are under way, and ends with the worker taking it when the part is at the
-  handover pose, the worker is free and the children exist (the worker rests until then; the take's own wear
-  is not predicted);
+- a robot step costs c_r; a robot's handover fetches the part from when the robot is free and the part's
+  sub-assembly exists (or, when the part is not known, the operation's children are under way), and ends
+  with the worker taking it when the part is at the handover pose, the worker is free and the operation's
+  other children exist (the worker rests until then; the take's own wear is not predicted);
 - time: ``time_weight`` × the schedule's makespan (its critical path through durations and waits) and
   ``takt_weight`` × its overrun of the takt (:mod:`ergosim.planner.wear_chain`).
 
@@ -27,7 +27,7 @@ shorter, and cheaper by the time it saves.
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -48,7 +48,8 @@ class TeamState:
     (≥ now) when the worker is next free, and ``v`` (p,) its predicted KWear then (after the action it is
     doing); ``free`` robot -> when it is next free; ``running`` operation -> its predicted end (it holds its
     children until then); ``reserved`` action -> the robot fetching its part to hand it over (started early,
-    already paid for; the robot's ``free`` is when the part reaches the handover pose)."""
+    already paid for, and kept for that robot even if pruned; the robot's ``free`` is when the part reaches
+    the handover pose)."""
 
     now: float
     v: np.ndarray
@@ -56,6 +57,9 @@ class TeamState:
     free: Mapping[str, float]
     running: Mapping[str, float]
     reserved: Mapping[str, str]
+    moving: Mapping[tuple[str, str], str] = field(default_factory=dict)
+    """(action, robot) -> the part a robot's handover carries: its fetch needs only that part's
+    sub-assembly, not the operation's other children (which the take joins, as the twin's board does)."""
 
 
 class TeamPricing(Pricing):
@@ -76,6 +80,13 @@ class TeamPricing(Pricing):
         self.fetch = self.duration - self.take
         agent_of = {a.name: i for i, a in enumerate(graph.agents)}
         act_of = {a: i for i, a in enumerate(graph.actions)}
+        part_of = {p: i for i, p in enumerate(graph.parts)}
+        self.moving = np.full((len(act_of), len(agent_of)), -1, dtype=np.int64)
+        """(A, N) the part index a robot's handover carries (-1: unknown: its fetch waits for the
+        children)."""
+        for (action, robot), part in team.moving.items():
+            if action in act_of and robot in agent_of and part in part_of:
+                self.moving[act_of[action], agent_of[robot]] = part_of[part]
         for action, robot in team.reserved.items():
             if action not in act_of or robot not in agent_of:
                 raise ConfigError(f"reserved action {action!r} by {robot!r} is not in task {graph.name!r}",
@@ -117,7 +128,9 @@ class TeamPricing(Pricing):
         h = self.human
         fm = self.view.father_parts[op]
         ready = np.where(fm, part_t, -np.inf).max(axis=1)
-        begun = np.where(fm, part_s, -np.inf).max(axis=1)
+        moving = self.moving[action, agent]
+        begun = np.where(moving >= 0, part_t[rows, np.maximum(moving, 0)],
+                         np.where(fm, part_s, -np.inf).max(axis=1))
         human = agent == h
         take = self.take[action, agent]
         handover = ~human & (take > 0)

@@ -87,8 +87,8 @@ class Allocator:
             self.durations = expected_durations(cell, robots, self.allowed, self.human, human_seconds)
 
     def observe(self, action: str, agent: str, seconds: float) -> None:
-        """``agent`` completed ``action`` in ``seconds`` (sequential execution); the paper's rule does not use
-        it."""
+        """``agent`` completed ``action`` in ``seconds`` (not a handover's span in parallel execution, which
+        includes its wait); the paper's rule does not use it."""
 
     def action_of(self, operation: str) -> str:
         return self._action_of[operation]

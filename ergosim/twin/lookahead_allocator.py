@@ -7,13 +7,14 @@ the twin supplies beside the KWear index: the expected duration of every (action
 handover's with the worker's take), and when the repetition started (the takt is counted from there).
 
 A robot whose skill cannot be planned from the cell as laid out (no expected duration) is not offered the
-action. Once an (action, agent) has been executed in sequential execution, its expected duration is the
-mean of its executions so far. A handover's planned estimate adds the worker's whole action for the take,
-which overstates it: once a robot's handover has been observed, the worker's take (observed minus the
-robot's planned part) replaces that estimate for the robot's other handovers too. In parallel execution a
-job's span includes waits, so the expectations stay. The decision record keeps the paper's order-free V̂
-and costs of this decision point (what allocations.csv prints) and adds, in ``through``, the cost of the
-chosen sequence.
+action. Once an (action, agent) has been executed, its expected duration is the mean of its executions so
+far. A handover's planned estimate adds the worker's whole action for the take, which overstates it: once a
+robot's handover has been observed, the worker's take (observed minus the robot's planned part) replaces
+that estimate for the robot's other handovers too. In parallel execution a handover's span includes its
+wait for the worker, so handovers keep their expectations there.
+
+The decision record keeps the paper's order-free V̂ and costs of this decision point (what allocations.csv
+prints) and adds, in ``through``, the cost of the chosen sequence.
 """
 
 from __future__ import annotations
@@ -36,10 +37,14 @@ __all__ = ["LookaheadAllocator", "lookahead_settings"]
 def lookahead_settings(cfg) -> tuple[float, float, SearchLimits]:
     """(takt weight [cost per s past the takt], time weight [cost per s of plan duration], search limits)
     of protocol ``cfg``: ``takt_weight`` (None: Γ/takt, assumed: a whole takt of overrun costs as much as one
-    joint past V_th, eq. 11), ``w_time``, ``lookahead_exact`` and ``lookahead_beam``."""
+    joint past V_th, eq. 11), ``time_weight`` (None: 0 in sequential execution, the takt weight in parallel),
+    ``lookahead_exact`` and ``lookahead_beam``."""
     takt_weight = cfg.gamma / cfg.takt if cfg.takt_weight is None else cfg.takt_weight
-    return float(takt_weight), float(cfg.w_time), SearchLimits(exact_actions=cfg.lookahead_exact,
-                                                              beam_width=cfg.lookahead_beam)
+    time_weight = cfg.time_weight
+    if time_weight is None:
+        time_weight = takt_weight if cfg.execution == "parallel" else 0.0
+    return float(takt_weight), float(time_weight), SearchLimits(exact_actions=cfg.lookahead_exact,
+                                                               beam_width=cfg.lookahead_beam)
 
 
 class LookaheadAllocator(Allocator):

@@ -68,7 +68,7 @@ def team_state(alloc: LookaheadAllocator, v_now: np.ndarray, board: TeamBoard, b
             free[job.agent] = now + _STILL_RUNNING
     running = {op: ends.get(alloc.action_of(op), now + _STILL_RUNNING) for op in board.running.values()}
     reserved = {action: agent for action, (agent, _) in board.reserved.items()}
-    return TeamState(now, v, worker_free, free, running, reserved)
+    return TeamState(now, v, worker_free, free, running, reserved, dict(board.early))
 
 
 class LookaheadTeamAllocator:

@@ -97,6 +97,11 @@ class ScenarioConfig:
     takt_weight: float | None = None
     """kwear-lookahead: cost per second by which a plan's predicted end passes the takt; None: Γ/takt
     (assumed: a whole takt of overrun costs as much as one joint past V_th, eq. 11)."""
+    time_weight: float | None = None
+    """kwear-lookahead: cost per second of a plan's predicted duration (its makespan, the critical path, in
+    parallel execution); None: 0 in sequential execution (the paper's form: time within the takt is free on
+    a paced line) and ``takt_weight`` in parallel (a parallel team exists to shorten the cycle, so a second
+    of it is priced as a second past the takt)."""
     lookahead_next: float = 1.0
     """kwear-lookahead: weight of the wear a plan leaves, priced as the next repetition would see it
     (ergosim.planner.wear_chain.next_cost); 0 ends the plan with its repetition."""
@@ -159,6 +164,8 @@ class ScenarioConfig:
         need(self.refusal_slope > 0, f"refusal_slope must be > 0, got {self.refusal_slope}")
         need(self.takt_weight is None or self.takt_weight >= 0,
              f"takt_weight must be >= 0 (cost per second past the takt) or none, got {self.takt_weight}")
+        need(self.time_weight is None or self.time_weight >= 0,
+             f"time_weight must be >= 0 (cost per second) or none, got {self.time_weight}")
         need(self.lookahead_next >= 0, f"lookahead_next must be >= 0, got {self.lookahead_next}")
         need(self.lookahead_exact >= 0, f"lookahead_exact must be >= 0 actions, got {self.lookahead_exact}")
         need(self.lookahead_beam >= 1, f"lookahead_beam must be >= 1, got {self.lookahead_beam}")
@@ -189,5 +196,5 @@ class ScenarioConfig:
 TEAM_FIELDS = ("execution", "w_time", "team_margin", "negotiation", "refusal_tolerance",
                "refusal_tolerance_sd", "refusal_slope")
 """The protocol fields of team execution (issue 17)."""
-LOOKAHEAD_FIELDS = ("takt_weight", "lookahead_next", "lookahead_exact", "lookahead_beam")
+LOOKAHEAD_FIELDS = ("takt_weight", "time_weight", "lookahead_next", "lookahead_exact", "lookahead_beam")
 """The protocol fields of the kwear-lookahead mode (issue 24)."""

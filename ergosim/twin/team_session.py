@@ -319,6 +319,8 @@ class TeamSession(Session):
         the sequential session (paper §2.2)."""
         decision, rep, alloc = job.decision, job.repetition, self.allocator
         t_end = out.t_end
+        if out.ok and job.geom.handover is None:  # a handover's span includes its wait for the worker
+            alloc.observe(decision.action, decision.agent, t_end - job.t0)
         if not out.ok:
             msg = (f"repetition {rep}: {decision.action} by {decision.agent} failed ({out.status}) "
                    f"at t={t_end:.1f} s" + (f": {out.message}" if out.message else ""))
