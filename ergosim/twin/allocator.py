@@ -112,6 +112,37 @@ class Allocator:
                         added[key] = self.w_time * seconds
         return v_hat, costs, added
 
+    def ready(self, done: list[str], pruned: set[tuple[str, str]]) -> dict[tuple[str, str], str]:
+        """(action, agent) -> the operation it would do now: the first operation (in task order) of each
+        action whose children all exist, for each agent allowed on it and not pruned (by the mode or
+        ``pruned``)."""
+        config = set(self.graph.configuration(done))
+        cut = self.base_pruned | pruned
+        out: dict[tuple[str, str], str] = {}
+        for op in self.graph.operations:
+            if op.name in done or not set(op.children) <= config:
+                continue
+            for agent in op.agents:
+                if (op.action, agent) not in cut:
+                    out.setdefault((op.action, agent), op.name)
+        return out
+
+    def chosen(self, action: str, agent: str, v_now: np.ndarray, done: list[str],
+               pruned: set[tuple[str, str]], time: float, repetition: int,
+               reason: str = "") -> Decision | None:
+        """The :class:`Decision` for an (action, agent) chosen by someone else (a Gym policy), with this
+        mode's prices for the record; None if the pair cannot start now (:meth:`ready`)."""
+        operation = self.ready(done, pruned).get((action, agent))
+        if operation is None:
+            return None
+        done_actions = {self._action_of[o] for o in done}
+        v_hat, costs, _ = self.price([a for a in self.graph.actions if a not in done_actions])
+        cut = self.base_pruned | pruned
+        agents = self.allowed[action] - {a for (act, a) in cut if act == action}
+        return Decision(time=time, repetition=repetition, v_now=np.array(v_now), v_hat=v_hat, costs=costs,
+                        action=action, agent=agent, operation=operation, had_choice=len(agents) > 1,
+                        reason=reason or f"{action} → {agent}: chosen by the policy")
+
     def decide(self, v_now: np.ndarray, done: list[str], pruned: set[tuple[str, str]], time: float,
                repetition: int) -> Decision | None:
         done_actions = {self._action_of[o] for o in done}

@@ -7,6 +7,7 @@ the ergonomics, the worker track supplies the worker's frames, the robot track d
 from __future__ import annotations
 
 import dataclasses
+from typing import NamedTuple
 
 import mujoco
 import numpy as np
@@ -20,7 +21,7 @@ from ergosim.twin.modes import get_mode
 from ergosim.twin.records import Allocation, Failure, RepetitionOutcome, SubjectRun
 from ergosim.worker.motion import Worker
 
-__all__ = ["Session", "Outcome"]
+__all__ = ["Session", "Outcome", "DecisionPoint"]
 
 # Time allowed to any single action before it counts as failed [s of simulated time]; the slowest robot
 # action at 0.05 m/s takes about 30 s, the slowest human action about 8 s.
@@ -28,6 +29,18 @@ _ACTION_TIMEOUT = 180.0
 # The worker retries a failed action from wherever the part now lies; after this many failures of one action
 # in one repetition the worker's hyper-arc is pruned as well (the action is beyond what the worker can do).
 _HUMAN_ATTEMPTS = 3
+
+
+class DecisionPoint(NamedTuple):
+    """Where the loop asks for the next (action, agent): the arguments of
+    :meth:`~ergosim.twin.allocator.Allocator.decide` (KWear (5,), the operations done, the pruned and declined
+    (action, agent) pairs, sim time [s], repetition)."""
+
+    v_now: np.ndarray
+    done: list[str]
+    pruned: set[tuple[str, str]]
+    time: float
+    repetition: int
 
 
 @dataclasses.dataclass(frozen=True)
@@ -205,6 +218,27 @@ class Session:
 
     # -- repetitions ---------------------------------------------------------------------------------------
     def _repetition(self, rep: int) -> bool:
+        return self._decide_all(self._repetition_steps(rep))
+
+    def _decide_all(self, steps):
+        """Run the generator ``steps`` (of :meth:`_repetition_steps` or :meth:`run_steps`) to its end, the
+        allocator answering every :class:`DecisionPoint`; returns what the generator returns."""
+        try:
+            point = next(steps)
+            while True:
+                try:
+                    decision = self.allocator.decide(*point)
+                except InfeasiblePlanError as err:
+                    point = steps.throw(err)
+                else:
+                    point = steps.send(decision)
+        except StopIteration as stop:
+            return stop.value
+
+    def _repetition_steps(self, rep: int):
+        """One repetition as a generator: it yields a :class:`DecisionPoint` whenever the allocator is asked
+        for the next (action, agent), receives the :class:`~ergosim.twin.allocator.Decision` (None: nothing
+        is left), or an InfeasiblePlanError thrown in, and returns whether the repetition completed."""
         plant, alloc = self.plant, self.allocator
         done: list[str] = []
         pruned: set[tuple[str, str]] = set()
@@ -213,7 +247,7 @@ class Session:
         order = 0
         while True:
             try:
-                decision = alloc.decide(plant.v, done, pruned | declined, plant.time, rep)
+                decision = yield DecisionPoint(plant.v, done, pruned | declined, plant.time, rep)
             except InfeasiblePlanError as err:
                 # Every agent that may do a remaining action failed at it: the repetition cannot finish.
                 self._abandon(rep, order, done, pruned, err.what)
@@ -282,6 +316,12 @@ class Session:
         return True
 
     def run(self, repetitions: int) -> SubjectRun:
+        """``repetitions`` of the task, every decision the allocator's."""
+        return self._decide_all(self.run_steps(repetitions))
+
+    def run_steps(self, repetitions: int):
+        """:meth:`run` as a generator of :class:`DecisionPoint` (see :meth:`_repetition_steps`): whoever
+        drives it decides (the Gym environment, :mod:`ergosim.gym`); returns the :class:`SubjectRun`."""
         plant, cfg = self.plant, self.cfg
         completed = overruns = 0
         # a takt-paced line starts every repetition at its takt slot (paper §7.2: "we fixed the takt time for
@@ -295,7 +335,7 @@ class Session:
             self.cell.reset_parts()  # the second operator lays the parts out again (§7.2)
             plant.repetition = rep
             start = plant.time
-            ok = self._repetition(rep)
+            ok = yield from self._repetition_steps(rep)
             completed += int(ok)
             overruns += int(plant.time - start > cfg.takt)
             if ok:

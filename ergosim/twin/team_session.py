@@ -87,6 +87,11 @@ class TeamSession(Session):
         self.robot_jobs: dict[str, _Job] = {}
 
     # -- one repetition --------------------------------------------------------------------------------------
+    def _repetition_steps(self, rep: int):
+        """The team decides inside the repetition's event loop: nothing is yielded to the caller."""
+        return self._repetition(rep)
+        yield  # pragma: no cover - makes this a generator
+
     def _repetition(self, rep: int) -> bool:
         self.board = TeamBoard(self.allocator.graph, self.team.early)
         self._rep = rep
