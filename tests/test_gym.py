@@ -59,7 +59,8 @@ def test_a_mode_replayed_through_the_env_is_its_run(scenario, mode):
     episode = evaluate(env, mode_policy, seed=5)
     ran = run_subject(scenario, 0, 5, (mode,)).runs[mode]
     got = env.result
-    assert [dataclasses.astuple(a) for a in got.allocations] == [dataclasses.astuple(a) for a in ran.allocations]
+    rows = [dataclasses.astuple(a) for a in got.allocations]
+    assert rows == [dataclasses.astuple(a) for a in ran.allocations]
     np.testing.assert_array_equal(got.ticks.rows, ran.ticks.rows)
     assert episode.kwear_integral == pytest.approx(float(ran.ticks.kwear.sum()) * ran.dt_tick, rel=1e-12)
     assert episode.steps == sum(a.status != "pruned" for a in ran.allocations)
