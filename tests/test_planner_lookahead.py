@@ -127,14 +127,14 @@ def _check(graph, data):
             lookahead_plan(graph, model, v, done=done, pruned=pruned, elapsed=elapsed)
         return
     exact = lookahead_plan(graph, model, v, done=done, pruned=pruned, elapsed=elapsed,
-                           limits=SearchLimits(exact_actions=99, max_expansions=10**7))
+                           limits=SearchLimits(exact_sequences=10**9, max_expansions=10**7))
     assert exact.exact and exact.cost == pytest.approx(best, rel=1e-9, abs=1e-9)
     steps = [(s.action, s.agent) for s in exact.steps]
     assert price_sequence(model, v, elapsed, steps).total == pytest.approx(exact.cost, rel=1e-9, abs=1e-9)
     assert sum(s.cost for s in exact.steps) <= exact.cost + 1e-9  # the step prices, without the time terms
     for width in (1, 3):
         beam = lookahead_plan(graph, model, v, done=done, pruned=pruned, elapsed=elapsed,
-                              limits=SearchLimits(exact_actions=0, beam_width=width))
+                              limits=SearchLimits(exact_sequences=0, beam_width=width))
         assert beam.cost >= best - 1e-9 * max(1.0, best)
         assert beam.lower_bound <= best + 1e-9 * max(1.0, best)  # the bound holds for every sequence
         assert beam.cost - beam.gap <= best + 1e-9 * max(1.0, best)
@@ -164,7 +164,7 @@ def test_without_wear_or_recovery_the_optimum_is_the_papers():
                             robot_costs={n: float(rng.uniform(0.5, 3.0)) for n in names[1:]})
     costs = {(a, "human"): float(model.price(v)) for a in graph.actions}
     costs |= {(a, n): float(model.agent_cost[j]) for a in graph.actions for j, n in enumerate(names) if j}
-    plan = lookahead_plan(graph, model, v, limits=SearchLimits(exact_actions=99, max_expansions=10**7))
+    plan = lookahead_plan(graph, model, v, limits=SearchLimits(exact_sequences=10**9, max_expansions=10**7))
     assert plan.exact and plan.cost == pytest.approx(graph.plan(costs=costs).cost, rel=1e-12)
 
 
@@ -337,10 +337,10 @@ def test_team_search_matches_brute_force_on_random_liaison_graphs(data):
             lookahead_team(graph, model, team, done=done, pruned=pruned)
         return
     got = lookahead_team(graph, model, team, done=done, pruned=pruned, idle=["human", "robot"],
-                         limits=SearchLimits(exact_actions=99, max_expansions=10**7))
+                         limits=SearchLimits(exact_sequences=10**9, max_expansions=10**7))
     assert got.plan.exact and got.plan.cost == pytest.approx(best, rel=1e-9, abs=1e-9)
     beam = lookahead_team(graph, model, team, done=done, pruned=pruned,
-                          limits=SearchLimits(exact_actions=0, beam_width=2))
+                          limits=SearchLimits(exact_sequences=0, beam_width=2))
     assert beam.plan.cost >= best - 1e-9 * max(1.0, best)
     assert beam.plan.lower_bound <= best + 1e-9 * max(1.0, best)
     assert all(s.agent in ("human", "robot") for s in got.starts) and len(got.starts) <= 2

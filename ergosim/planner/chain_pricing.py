@@ -20,8 +20,9 @@ from collections.abc import Iterable
 import numpy as np
 
 from ergosim.errors import ConfigError
+from ergosim.planner.pilot import pilot_table
 from ergosim.planner.transitions import Transitions, transitions
-from ergosim.planner.wear_chain import WearModel, next_cost
+from ergosim.planner.wear_chain import WearModel
 
 __all__ = ["Pricing", "SequentialPricing"]
 
@@ -41,6 +42,13 @@ class Pricing:
                               where="lookahead") from None
         self.model = model
         self.alpha = model.alpha[acts]
+        robot = np.nanmin(model.agent_cost) if np.isfinite(model.agent_cost).any() else np.inf
+        self.next_cap = np.where(model.robot_ok[acts], robot, np.inf)
+        self.next_alpha = self.alpha.sum(axis=0)
+        self.next_flat = float(self.alpha.size)
+        """Σ_a α_a (p,) and A·p: the next repetition's order-free price, Σ_a Σ_i (1 − α_a,i (1 − V_i)), is
+        ``next_flat − next_alpha·(1 − V)`` when the worker does every action."""
+        """(A,) what the next repetition pays at most per action (its cheapest robot, where one may do it)."""
         self.duration = model.duration[np.ix_(acts, agents)]
         self.rest_s = model.rest[np.ix_(acts, agents)]
         self.cost = np.repeat(model.agent_cost[agents][None, :], len(acts), axis=0)
@@ -70,6 +78,8 @@ class Pricing:
         self.min_duration = np.where(self.allowed, self.duration, np.inf).min(axis=1, initial=np.inf)
         self.min_duration[~np.isfinite(self.min_duration)] = 0.0
         self.max_rest = np.where(robots, self.rest_s, 0.0).max(axis=1, initial=0.0)
+        self.robot_duration = np.where(robots, self.duration, np.inf).min(axis=1, initial=np.inf)
+        self.robot_duration[~np.isfinite(self.robot_duration)] = 0.0
 
     def children(self, cid: int):
         """The allowed ready (operation, agent) pairs of configuration ``cid``: (op, action, agent, next,
@@ -80,13 +90,14 @@ class Pricing:
         keep = self.allowed[s.action, s.agent]
         return s.op[keep], s.action[keep], s.agent[keep], s.next[keep], s.done[keep], s.need[keep]
 
-    def order_free(self, v: np.ndarray) -> np.ndarray:
+    def order_free(self, v: np.ndarray, gamma: bool = True) -> np.ndarray:
         """The paper's prices (eq. 9-11) of every action from wear ``v`` (n, p) -> (n, A): Σ_i V̂_i is
-        p − α·(1 − V), a matrix product; the Γ terms are counted only where some V̂_i can reach V_th."""
+        p − α·(1 − V), a matrix product; the Γ terms are counted only where some V̂_i can reach V_th (and
+        not at all with ``gamma`` False)."""
         w = 1.0 - v
         out = self.alpha.shape[1] - w @ self.alpha.T
         th = self.model.v_th
-        if np.any(1.0 - self.alpha.min(axis=0) * w.min(axis=0) >= th):
+        if gamma and np.any(1.0 - self.alpha.min(axis=0) * w.min(axis=0) >= th):
             over = (1.0 - self.alpha[None] * w[:, None, :]) >= th
             out += self.model.cost.gamma * over.sum(axis=2)
         return out
@@ -97,6 +108,40 @@ class Pricing:
         human = np.where(self.human_ok[None], self.order_free(v), np.inf)
         each = np.minimum(human, self.robot_min[None])
         return np.where(need, each, 0.0).sum(axis=1)
+
+    def chain_bound(self, need: np.ndarray, v: np.ndarray, longest: np.ndarray) -> np.ndarray:
+        """A lower bound (n,) on the wear and robot cost of completing each row that sees the chain grow.
+
+        If the worker does m of the r needed actions, its k-th one leaves at least ρ_m·V''_k, where V''_k =
+        1 − (1 − V)·Π(the k largest α of the needed actions it may do, per joint) is the chain without rest
+        (the product of any k α is at most that of the k largest) and ρ_m = e^{−(r/C)·T_m} its rest over
+        at most T_m = ``longest[:, r − m]`` seconds (a wear step after a rest leaves at least ρ times what it
+        leaves without it, eq. 5 and 9). Priced on Σ_i V̂_i (the Γ terms dropped), plus the r − m cheapest
+        robot costs and the next repetition's price of ρ_m·V''_m, minimised over the m the pairs allow.
+        ``longest`` (n, A + 1): column j bounds the worker's rest when robots do j of the needed actions."""
+        n, n_a = need.shape
+        worker = need & self.human_ok[None]
+        alpha = np.where(worker[:, :, None], self.alpha[None], -1.0)
+        alpha = -np.sort(-alpha, axis=1)
+        prod = np.cumprod(np.where(alpha < 0, 1.0, alpha), axis=1)  # (n, A, p): rank k = index k - 1
+        v2 = 1.0 - (1.0 - v[:, None, :]) * prod
+        linear = np.concatenate([np.zeros((n, 1)), np.cumsum(v2.sum(axis=2), axis=1)], axis=1)  # by m
+        r = need.sum(axis=1)
+        robot_cost = np.sort(np.where(need & np.isfinite(self.robot_min)[None], self.robot_min[None], np.inf),
+                             axis=1)
+        cheapest = np.concatenate([np.zeros((n, 1)), np.cumsum(robot_cost, axis=1)], axis=1)  # by robot count
+        m = np.arange(n_a + 1)[None, :]
+        robots = np.clip(r[:, None] - m, 0, n_a)
+        rho = np.exp(-self.k * np.take_along_axis(longest, robots, axis=1))
+        ok = (m <= worker.sum(axis=1)[:, None]) & (m <= r[:, None]) & np.isfinite(
+            np.take_along_axis(cheapest, robots, axis=1))
+        total = rho * linear + np.take_along_axis(cheapest, robots, axis=1)
+        if self.model.next_weight:
+            last = np.concatenate([v[:, None, :], v2], axis=1)  # V'' after m worker actions
+            after = self.next_cost((rho[:, :, None] * last).reshape(-1, v.shape[1]), gamma=False)
+            after = after.reshape(n, n_a + 1)
+            total = total + after
+        return np.where(ok, total, np.inf).min(axis=1)
 
     def time_terms(self, t0: np.ndarray, t1: np.ndarray) -> np.ndarray:
         """The takt and time terms of going from predicted end ``t0`` to ``t1`` [s from the repetition's
@@ -113,7 +158,9 @@ class Pricing:
         """(state of the children, price of each step, its predicted start [s])."""
         raise NotImplementedError
 
-    def estimate(self, state, need: np.ndarray, *, lowest: bool) -> np.ndarray:
+    def estimate(self, state, need: np.ndarray, *, lowest: bool, cids=None) -> np.ndarray:
+        """What completing each row costs at least (``lowest``) or about (the beam's ranking; ``cids``: the
+        rows' configuration ids)."""
         raise NotImplementedError
 
     def end_wear(self, state) -> np.ndarray:
@@ -123,7 +170,15 @@ class Pricing:
     def terminal(self, state) -> np.ndarray:
         """What a complete sequence adds for the wear it leaves
         (:func:`~ergosim.planner.wear_chain.next_cost`)."""
-        return next_cost(self.model, self.end_wear(state))
+        return self.next_cost(self.end_wear(state))
+
+    def next_cost(self, v: np.ndarray, gamma: bool = True) -> np.ndarray:
+        """:func:`~ergosim.planner.wear_chain.next_cost` of wear ``v`` (n, p) with the matrix product of
+        :meth:`order_free` (without the Γ terms if ``gamma`` is False: a lower value)."""
+        if self.model.next_weight == 0:
+            return np.zeros(len(v))
+        prices = self.order_free(v, gamma)
+        return self.model.next_weight * np.minimum(prices, self.next_cap[None]).sum(axis=1)
 
     def dominance(self, state) -> np.ndarray | None:
         """(n, m) keys such that a row no greater in every key and in cost can do no worse from the same
@@ -147,14 +202,22 @@ class SequentialPricing(Pricing):
         t_new = t + self.duration[action, agent]
         return (g + price + self.time_terms(t, t_new), v_new, t_new), price, t
 
-    def estimate(self, state, need, *, lowest: bool):
+    def estimate(self, state, need, *, lowest: bool, cids=None):
+        """``lowest``: the admissible bound of :meth:`Pricing.chain_bound` (the worker rests only while
+        robots act, at most their longest rests) or the order-free bound priced at the lowest wear
+        reachable, whichever is higher. Else the beam's guess (:mod:`ergosim.planner.pilot`) for rows in
+        configurations ``cids``."""
         if not self.view.action_once:
             return np.zeros(len(need))
         _, v, t = state
-        if lowest:  # the worker rests at most while a robot does every needed action it may do (eq. 5)
-            v = v * np.exp(-self.k * (need * self.max_rest).sum(axis=1))[:, None]
-        return (self.needed_cost(need, v) + self.time_terms(t, t + (need * self.min_duration).sum(axis=1))
-                + next_cost(self.model, v))
+        if not lowest:
+            return pilot_table(self).estimate(self, cids, need, v, t)
+        rests = np.sort(np.where(need, self.max_rest[None], 0.0), axis=1)[:, ::-1]
+        longest = np.concatenate([np.zeros((len(v), 1)), np.cumsum(rests, axis=1)], axis=1)
+        chain = self.chain_bound(need, v, longest)
+        low = v * np.exp(-self.k * longest[:, -1])[:, None]
+        flat = self.needed_cost(need, low) + self.next_cost(low)
+        return np.maximum(chain, flat) + self.time_terms(t, t + (need * self.min_duration).sum(axis=1))
 
     def end_wear(self, state):
         return state[1]

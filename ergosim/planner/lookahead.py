@@ -7,15 +7,18 @@ ready hyper-arcs from the current configuration to the full assembly (:mod:`ergo
 
 Two searches, one contract (:class:`LookaheadPlan`):
 
-- **exact** (depth-first branch and bound) when the remaining plan has at most ``exact_actions`` actions and
-  the search completes within ``max_expansions`` expansions. Two pruning rules, both exact: a partial
+- **exact** (depth-first branch and bound) when the remaining plan has at most ``exact_sequences``
+  sequences (its free-order groups are small) and the search completes within ``max_expansions``
+  expansions. Two pruning rules, both exact: a partial
   sequence whose cost plus an admissible bound (below) reaches the best complete one is cut; and one that
   reaches a configuration already reached with no more cost, no more wear on any joint and no later time is
   cut (every later price is non-decreasing in V and in time: eq. 9 and eq. 5 are monotone in V, eq. 11 in
   V̂, the takt term in time).
 - **beam** otherwise: a breadth-first search that keeps, after each step, the ``beam_width`` partial
-  sequences with the least cost plus the order-free estimate of what is left (the paper's eq. 9-11 prices
-  from the partial sequence's V), one per configuration. It returns the cheapest complete sequence it kept.
+  sequences with the least cost plus the cost of a concrete completion that sees the chain grow (robots
+  first on the actions that wear most, then the worker least wear first:
+  :meth:`~ergosim.planner.chain_pricing.SequentialPricing.pilot`), one per configuration. It returns the
+  cheapest complete sequence it kept.
 
 **How far the beam can be from the optimum.** Every sequence costs at least ``lower_bound``: the order-free
 plan (each needed action at its cheapest agent) priced at the lowest wear the worker can still reach,
@@ -35,7 +38,6 @@ so far.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterable
 from dataclasses import dataclass
 
@@ -52,19 +54,21 @@ __all__ = ["SearchLimits", "LookaheadPlan", "lookahead_plan", "search_sequences"
 
 @dataclass(frozen=True)
 class SearchLimits:
-    """When the look-ahead searches exactly, and the beam's width otherwise (assumed values: exact on every
-    bundled task, within the 5 ms decision budget on ``sequential:21``, see ``scripts/bench_planner.py``)."""
+    """When the look-ahead searches exactly: the remaining plan has at most ``exact_sequences`` sequences
+    (orders × agents; the corner joint has 96, the gearbox 768) and branch and bound finishes within
+    ``max_expansions`` partial sequences; the beam's width otherwise. Assumed values: exact on every bundled
+    task, within the 5 ms decision budget on ``sequential:21`` (``scripts/bench_planner.py --lookahead``)."""
 
-    exact_actions: int = 8
-    max_expansions: int = 50_000
+    exact_sequences: int = 20_000
+    max_expansions: int = 200_000
     beam_width: int = 6
 
     def __post_init__(self) -> None:
-        for name in ("exact_actions", "max_expansions", "beam_width"):
+        for name in ("exact_sequences", "max_expansions", "beam_width"):
             value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, int) or value < (0 if name == "exact_actions"
-                                                                                 else 1):
-                raise ConfigError(f"{name} must be a whole number >= 1, got {value!r}",
+            low = 0 if name == "exact_sequences" else 1
+            if isinstance(value, bool) or not isinstance(value, int) or value < low:
+                raise ConfigError(f"{name} must be a whole number >= {low}, got {value!r}",
                                   where=f"SearchLimits.{name}")
 
 
@@ -133,7 +137,7 @@ class SequenceSearch:
             live = np.flatnonzero(~done)
             if not len(live):
                 break
-            f = g[live] + pricing.estimate(_take(child, live), need[live], lowest=False)
+            f = g[live] + pricing.estimate(_take(child, live), need[live], lowest=False, cids=nxt[live])
             order = live[np.lexsort((op[live], agent[live], f))]
             _, first = np.unique(nxt[order], return_index=True)  # one partial sequence per configuration
             keep = order[np.sort(first)][:width]
@@ -215,8 +219,8 @@ def search_sequences(pricing: Pricing, cid0: int, state0, limits: SearchLimits) 
     search = SequenceSearch(pricing)
     found = search.beam(cid0, state0, limits.beam_width)
     exact = False
-    size = int(view.needed(cid0).sum()) if view.action_once else (len(found[1]) if found else math.inf)
-    if size <= limits.exact_actions or found is None:  # a beam that dead-ends (OR branches) searches on
+    if found is None or view.sequences(cid0, limits.exact_sequences) <= limits.exact_sequences:
+        # small free groups are searched exactly; a beam that dead-ends (OR branches) searches on
         found, exact = search.exact(cid0, state0, found, limits.max_expansions)
     if found is None:
         raise InfeasiblePlanError("no feasible plan: no sequence of allowed hyper-arcs completes the "

@@ -35,7 +35,7 @@ from ergosim.errors import ConfigError
 from ergosim.planner.chain_pricing import Pricing
 from ergosim.planner.lookahead import LookaheadPlan, SearchLimits, search_sequences
 from ergosim.planner.plan import PlanStep
-from ergosim.planner.wear_chain import WearModel, next_cost
+from ergosim.planner.wear_chain import WearModel
 
 __all__ = ["TeamState", "TeamPricing", "TeamLookahead", "lookahead_team"]
 
@@ -155,7 +155,7 @@ class TeamPricing(Pricing):
                part_t, part_s, makespan)
         return out, price, start
 
-    def estimate(self, state, need, *, lowest: bool):
+    def estimate(self, state, need, *, lowest: bool, cids=None):
         if not self.view.action_once:
             return np.zeros(len(need))
         _, v, w_last, free, _, _, end = state
@@ -166,7 +166,7 @@ class TeamPricing(Pricing):
             robot_time[:, h] = 0.0
             idle = np.maximum(0.0, free.max(axis=1) - w_last) + (need * robot_time.max(axis=1)).sum(axis=1)
             v = v * np.exp(-self.k * idle)[:, None]
-        after = next_cost(self.model, v)
+        after = self.next_cost(v)
         work = (need * self.min_duration).sum(axis=1)
         alone = (need & ~np.isfinite(self.robot_min)) * self.duration[:, h]
         t_end = np.maximum.reduce([end, free.min(axis=1) + work / free.shape[1],

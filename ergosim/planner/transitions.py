@@ -16,6 +16,7 @@ search, which gives the searches their bounds; :attr:`Transitions.action_once` s
 
 from __future__ import annotations
 
+import math
 import weakref
 from collections.abc import Iterable
 
@@ -68,6 +69,9 @@ class Transitions:
         for k, agents in enumerate(self.op_agents):
             self.allowed[self.op_action[k], agents] = True
         """(A, N) bool: the agent has a hyper-arc for some operation of the action."""
+        nodes = {m for kids in self.children for m in kids} | set(self.father)
+        self._node_bit = {m: 1 << i for i, m in enumerate(sorted(nodes))}
+        self._op_bits = [sum(self._node_bit[c] for c in kids) for kids in self.children]
         self.root = (1 << len(graph.parts)) - 1
         self.father_parts = np.array([[f >> i & 1 for i in range(len(graph.parts))] for f in self.father],
                                      dtype=bool).reshape(len(self.father), len(graph.parts))
@@ -78,6 +82,9 @@ class Transitions:
         self.made = self._actions_made()
         self.action_once = self.made is not None
         self._needed: list[np.ndarray | None] = []
+        self._counts: dict[int, float] = {}
+        self.pilots: dict[bytes, object] = {}
+        """The beam's per-configuration tables by model (:func:`~ergosim.planner.pilot.pilot_table`)."""
 
     # -------------------------------------------------------------------------------------------- build
     def _actions_made(self) -> dict[int, int] | None:
@@ -125,8 +132,12 @@ class Transitions:
         if succ is not None:
             return succ
         config = self.configs[cid]
-        ops = sorted({k for c in config for k in self._by_child.get(c, ())
-                      if all(x in config for x in self.children[k])})
+        bits = 0
+        for c in config:
+            bits |= self._node_bit[c]
+        candidates = set().union(*(self._by_child.get(c, ()) for c in config))
+        op_bits = self._op_bits
+        ops = sorted(k for k in candidates if bits & op_bits[k] == op_bits[k])
         rows: list[tuple[int, int, int, int]] = []
         for k in ops:
             nxt = self.config_id((config - set(self.children[k])) | {self.father[k]})
@@ -136,6 +147,36 @@ class Transitions:
         need = np.array([self.needed(c) for c in cols[3]], dtype=bool).reshape(len(rows), self.n_actions)
         succ = self._succ[cid] = Successors(*cols, done, need)
         return succ
+
+    def sequences(self, cid: int, cap: int, budget: int = 2000) -> float:
+        """How many sequences of (operation, agent) lead from ``cid`` to the full assembly (pruning ignored,
+        so an upper bound for a call that prunes), or inf once that number passes ``cap`` or counting would
+        visit more than ``budget`` new configurations. Counts are kept per configuration."""
+        self._budget = budget
+        try:
+            return self._count(cid, cap)
+        except _TooMany:
+            self._counts[cid] = math.inf
+            return math.inf
+
+    def _count(self, cid: int, cap: int) -> float:
+        count = self._counts.get(cid)
+        if count is not None:
+            return count
+        if self.complete(cid):
+            total = 1.0
+        else:
+            self._budget -= 1
+            if self._budget < 0:
+                raise _TooMany
+            total = 0.0
+            for nxt in self.successors(cid).next.tolist():
+                total += self._count(nxt, cap)
+                if total > cap:
+                    total = math.inf
+                    break
+        self._counts[cid] = total
+        return total
 
     def needed(self, cid: int) -> np.ndarray:
         """(A,) bool: the actions every plan from ``cid`` still makes (action-once tasks; else all False)."""
@@ -149,6 +190,10 @@ class Transitions:
                 need[[i for i in range(self.n_actions) if left >> i & 1]] = True
             self._needed[cid] = need
         return need
+
+
+class _TooMany(Exception):
+    pass
 
 
 _CACHE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()

@@ -43,7 +43,7 @@ def lookahead_settings(cfg) -> tuple[float, float, SearchLimits]:
     time_weight = cfg.time_weight
     if time_weight is None:
         time_weight = takt_weight if cfg.execution == "parallel" else 0.0
-    return float(takt_weight), float(time_weight), SearchLimits(exact_actions=cfg.lookahead_exact,
+    return float(takt_weight), float(time_weight), SearchLimits(exact_sequences=cfg.lookahead_exact,
                                                                beam_width=cfg.lookahead_beam)
 
 

@@ -105,9 +105,9 @@ class ScenarioConfig:
     lookahead_next: float = 1.0
     """kwear-lookahead: weight of the wear a plan leaves, priced as the next repetition would see it
     (ergosim.planner.wear_chain.next_cost); 0 ends the plan with its repetition."""
-    lookahead_exact: int = 8
-    """kwear-lookahead: search exactly when the remaining plan has at most this many actions (assumed: every
-    bundled task; ergosim.planner.lookahead)."""
+    lookahead_exact: int = 20_000
+    """kwear-lookahead: search exactly when the remaining plan has at most this many sequences (orders ×
+    agents; assumed: every bundled task, the gearbox has 768; ergosim.planner.lookahead)."""
     lookahead_beam: int = 6
     """kwear-lookahead: the beam's width otherwise (assumed: within the 5 ms decision budget on a 20-action
     chain, scripts/bench_planner.py --lookahead)."""
@@ -167,7 +167,7 @@ class ScenarioConfig:
         need(self.time_weight is None or self.time_weight >= 0,
              f"time_weight must be >= 0 (cost per second) or none, got {self.time_weight}")
         need(self.lookahead_next >= 0, f"lookahead_next must be >= 0, got {self.lookahead_next}")
-        need(self.lookahead_exact >= 0, f"lookahead_exact must be >= 0 actions, got {self.lookahead_exact}")
+        need(self.lookahead_exact >= 0, f"lookahead_exact must be >= 0 sequences, got {self.lookahead_exact}")
         need(self.lookahead_beam >= 1, f"lookahead_beam must be >= 1, got {self.lookahead_beam}")
 
     def record(self) -> dict:
