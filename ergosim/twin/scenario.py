@@ -16,7 +16,7 @@ from typing import Literal
 
 from ergosim.errors import ConfigError
 from ergosim.robot.trajectory import CONTACT_SPEED, TRANSIT_SPEED
-from ergosim.twin.modes import mode_names
+from ergosim.twin.modes import mode_names, mode_or_default
 
 __all__ = ["ScenarioConfig", "EE_SPEED_MAX", "ETA_MAX_LIMIT", "TEAM_FIELDS", "LOOKAHEAD_FIELDS"]
 
@@ -173,12 +173,13 @@ class ScenarioConfig:
     def record(self) -> dict:
         """The protocol as the outputs record it (``summary.json`` ``config``, ``run.json``): every field,
         except the team-execution fields (:data:`TEAM_FIELDS`) and the look-ahead's
-        (:data:`LOOKAHEAD_FIELDS`) while they keep their defaults, so a paper protocol's outputs stay as they
-        were."""
+        (:data:`LOOKAHEAD_FIELDS`, unless a mode with its own allocator runs) while they keep their defaults,
+        so a paper protocol's outputs stay as they were."""
         out = dict(vars(self))
-        for group in (TEAM_FIELDS, LOOKAHEAD_FIELDS):
+        own_rule = any(mode_or_default(m).allocator is not None for m in self.modes)
+        for group, used in ((TEAM_FIELDS, False), (LOOKAHEAD_FIELDS, own_rule)):
             defaults = {f.name: f.default for f in dataclasses.fields(self) if f.name in group}
-            if all(out[k] == v for k, v in defaults.items()):
+            if not used and all(out[k] == v for k, v in defaults.items()):
                 for k in group:
                     out.pop(k)
         return out
