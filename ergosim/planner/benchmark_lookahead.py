@@ -31,7 +31,7 @@ __all__ = ["LookaheadRow", "LOOKAHEAD_CASES", "LOOKAHEAD_TARGET_MS", "random_mod
            "lookahead_rows_json"]
 
 LOOKAHEAD_CASES = (("sequential:21", 2, "sequential"), ("sequential:21", 2, "parallel"),
-                   ("sequential:9", 2, "sequential"), ("scarce:21", 2, "sequential"),
+                   ("sequential:6", 2, "sequential"), ("scarce:21", 2, "sequential"),
                    ("corner-joint:multi-subject", 2, "sequential"),
                    ("corner-joint:multi-subject", 2, "parallel"),
                    ("gearbox", 2, "sequential"), ("gearbox", 2, "parallel"))
@@ -123,7 +123,7 @@ def run_lookahead_benchmark(seed: int = 0, quick: bool = False, progress=None) -
     return rows
 
 
-def beam_quality(task: str = "sequential:9", draws: int = 40, seed: int = 0, widths=(1, 2, 4, 6)) -> dict:
+def beam_quality(task: str = "sequential:7", draws: int = 40, seed: int = 0, widths=(1, 2, 4, 6)) -> dict:
     """The beam against the exact search on ``task`` (small enough to search exactly), over ``draws`` wear
     models and start wears: per beam width, the share of decisions with the exact first step, the share of
     optimal plans, the mean and largest excess over the optimum [%], and the mean reported gap [%]."""
