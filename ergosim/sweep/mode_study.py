@@ -18,8 +18,8 @@ import pyarrow.parquet as pq
 
 __all__ = ["ModeRow", "mode_rows", "format_mode_table", "plot_mode_study", "PAIRED_PANELS"]
 
-PAIRED_PANELS = (("kwear_integral", "KWear integral ∫ΣV dt [s]"), ("time_above_vth", "time above V_th [s]"),
-                 ("repetition_time", "repetition time [s]"))
+PAIRED_PANELS = (("kwear_integral", "KWear integral ∫ΣV dt [s]"), ("repetition_time", "repetition time [s]"),
+                 ("takt_overruns", "takt overruns (repetitions)"))
 """The paired metrics drawn per scenario (a line per subject), with their axis labels."""
 
 
@@ -78,7 +78,7 @@ def format_mode_table(studies: Mapping[str, tuple[str, str, list[ModeRow]]]) -> 
 
 def plot_mode_study(folders: Mapping[str, str | Path], out: str | Path) -> Path:
     """Per scenario (a row): the paired metrics of :data:`PAIRED_PANELS` (a line per subject and seed, from
-    the baseline mode to the challenger, the means as black bars) and the robot's share of each action in
+    the baseline mode to the challenger, the means as coloured bars) and the robot's share of each action in
     both modes (the mean over subjects). Written to ``out`` (PNG)."""
     import matplotlib  # noqa: PLC0415 - plotting only
 
@@ -103,7 +103,7 @@ def plot_mode_study(folders: Mapping[str, str | Path], out: str | Path) -> Path:
             for x, values, c in ((0, a, colours[0]), (1, b, colours[1])):
                 ax.plot([x - 0.18, x + 0.18], [np.nanmean(values)] * 2, color=c, lw=3)
             if not np.any(np.nan_to_num(np.r_[a, b])):
-                ax.text(0.5, 0.5, "0 in every run", transform=ax.transAxes, ha="center", color="0.4")
+                ax.text(0.5, 0.8, "0 in every run", transform=ax.transAxes, ha="center", color="0.4")
             ax.set_xticks([0, 1], modes[:1] + modes[-1:])
             ax.set_xlim(-0.4, 1.4)
             ax.set_ylabel(label)
@@ -121,10 +121,10 @@ def plot_mode_study(folders: Mapping[str, str | Path], out: str | Path) -> Path:
             for p, s in zip(pos, shares, strict=True):
                 ax.text(p, s + 0.02, f"{s:.0%}", ha="center", fontsize=7)
         ax.set_xticks(np.arange(len(actions)), actions)
-        ax.set_ylim(0, 1.15)
+        ax.set_ylim(0, 1.3)
         ax.set_ylabel("robot share, mean over subjects")
         ax.set_title(f"{scenario}: the robot's share of each action", fontsize=10)
-        ax.legend(fontsize=8, loc="upper right")
+        ax.legend(fontsize=8, loc="upper left", ncol=2)
     fig.tight_layout()
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
