@@ -16,7 +16,7 @@ from ergosim.planner.liaisons import Liaison
 from ergosim.planner.lookahead import LookaheadPlan, SearchLimits, lookahead_plan
 from ergosim.planner.lookahead_team import TeamLookahead, TeamState, lookahead_team
 from ergosim.planner.outside import outside_costs, through_costs
-from ergosim.planner.paper_search import SearchBudgetExceeded
+from ergosim.planner.paper_search import SearchBudgetExceeded, SearchMemoryExceeded
 from ergosim.planner.plan import Plan, PlanStep, replan_until_done
 from ergosim.planner.taskfile import load_task, parse_task, task_from_dict
 from ergosim.planner.team import TeamAssignment, TeamStep, team_assign
@@ -40,6 +40,7 @@ __all__ = [
     "BUNDLED_TASKS",
     "replan_until_done",
     "SearchBudgetExceeded",
+    "SearchMemoryExceeded",
     "team_assign",
     "TeamStep",
     "TeamAssignment",

@@ -217,7 +217,8 @@ class AndOrGraph:
                 search over configurations). Both return an optimal plan.
             time_budget: seconds the ``paper`` search may take before raising
                 :class:`~ergosim.planner.paper_search.SearchBudgetExceeded` (default: unlimited).
-            max_states: configurations the ``paper`` search may create before a ConfigError (default
+            max_states: configurations the ``paper`` search may create before raising
+                :class:`~ergosim.planner.paper_search.SearchMemoryExceeded`, a ConfigError (default
                 :data:`~ergosim.planner.limits.MAX_PAPER_STATES`).
 
         Raises:

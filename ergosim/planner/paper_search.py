@@ -29,13 +29,21 @@ from ergosim.planner.limits import MAX_PAPER_STATES
 if TYPE_CHECKING:
     from ergosim.planner.graph import AndOrGraph
 
-__all__ = ["solve", "SearchBudgetExceeded"]
+__all__ = ["solve", "SearchBudgetExceeded", "SearchMemoryExceeded"]
 
 _CHECK_EVERY = 1024
 
 
 class SearchBudgetExceeded(TimeoutError):
     """The search ran past its ``time_budget``; raised so a benchmark can record it as skipped."""
+
+
+class SearchMemoryExceeded(ConfigError):
+    """The search created more configurations than its ``max_states`` memory budget.
+
+    A :class:`~ergosim.errors.ConfigError`, so the CLI prints it as one line; a benchmark catches it by
+    this type and records the row as over budget.
+    """
 
 
 def _edges(graph: AndOrGraph) -> list[list[tuple[int, int]]]:
@@ -92,7 +100,7 @@ def solve(
     Raises:
         InfeasiblePlanError: OPEN ran empty before the goal was reached.
         SearchBudgetExceeded: the search took longer than ``time_budget`` seconds.
-        ConfigError: the search created more than ``max_states`` configurations.
+        SearchMemoryExceeded: the search created more than ``max_states`` configurations (a ConfigError).
     """
     limit = MAX_PAPER_STATES if max_states is None else max_states
     deadline = None if time_budget is None else time.perf_counter() + time_budget
@@ -116,7 +124,7 @@ def solve(
         if deadline is not None and popped % _CHECK_EVERY == 0 and time.perf_counter() > deadline:
             raise SearchBudgetExceeded(f"paper search exceeded {time_budget} s after {popped} expansions")
         if pushed > limit:
-            raise ConfigError(
+            raise SearchMemoryExceeded(
                 f"the paper planner (Algorithm 1) created {pushed} configurations, more than its memory "
                 f"budget of {limit} (--max-states); plan this task with --planner fast",
                 where=graph.source,

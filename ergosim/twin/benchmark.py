@@ -104,8 +104,9 @@ def bench_video(scenario: str = "multi-subject", seed: int = 0, repeats: int = 3
     """Cost of ``--video``, measured on one recorded repetition: ``seconds`` of simulated time filmed at
     ``speed`` (30 fps), ``repeats`` times (medians). Returns ms per frame for each stage (scene render,
     overlay, encoder), the wall time per second of simulated time, and the same repetition's simulation
-    wall time with and without body poses kept (what ``--video`` adds to the run itself)."""
-    from ergosim.video import VideoRequest, write_run_video  # noqa: PLC0415 - only this benchmark renders
+    wall time with and without body poses kept (what ``--video`` adds to the run itself). Each film is made
+    with the default worker processes and, side by side, in one process (:mod:`ergosim.video.benchmark`):
+    wall and CPU time per frame of both, the speed-up, and whether the MP4 files are byte-identical."""
 
     sc = load_scenario(scenario).with_overrides({"repetitions": "1", "modes": "hrc"})
     cfg = sc.protocol
@@ -125,30 +126,41 @@ def bench_video(scenario: str = "multi-subject", seed: int = 0, repeats: int = 3
             sims[key].append(time.perf_counter() - t0)
             if key == "on":
                 run = r
-    stats = []
+    from ergosim.video.benchmark import compare_workers  # noqa: PLC0415
+    from ergosim.video.render_pool import default_workers  # noqa: PLC0415
+
+    workers = default_workers()
+    films = []
     with tempfile.TemporaryDirectory() as tmp:
         for k in range(repeats):
-            request = VideoRequest(Path(tmp) / f"bench{k}.mp4", width=size[0], height=size[1], speed=speed)
-            stats.append(write_run_video(rig.cell, run, request, window=(0.0, seconds)))
-    frames = stats[0].frames
+            films.append(compare_workers(rig.cell, run, Path(tmp), (0.0, seconds), size, speed,
+                                         workers, tag=str(k)))
+    frames = films[0]["pool"]["frames"]
 
-    def med(f) -> float:
-        return statistics.median(f(x) for x in stats)
+    def med(key: str, f) -> float:
+        return statistics.median(f(x[key]) for x in films)
 
+    single = {"ms_per_frame": 1000 * med("single", lambda x: x["wall_s"] / x["frames"]),
+              "cpu_ms_per_frame": 1000 * med("single", lambda x: x["cpu_s"] / x["frames"])}
     return {
         "scenario": scenario, "repeats": repeats, "size": list(size), "speed": speed, "frames": frames,
-        "sim_seconds": seconds,
-        "render_ms_per_frame": 1000 * med(lambda x: x.render_s / x.frames),
-        "overlay_ms_per_frame": 1000 * med(lambda x: x.overlay_s / x.frames),
-        "encode_ms_per_frame": 1000 * med(lambda x: x.encode_s / x.frames),
-        "ms_per_frame": 1000 * med(lambda x: x.wall_s / x.frames),
-        "wall_per_sim_second": med(lambda x: x.wall_s / seconds),
+        "sim_seconds": seconds, "workers": workers,
+        "render_ms_per_frame": 1000 * med("pool", lambda x: x["render_s"] / x["frames"]),
+        "overlay_ms_per_frame": 1000 * med("pool", lambda x: x["overlay_s"] / x["frames"]),
+        "encode_ms_per_frame": 1000 * med("pool", lambda x: x["encode_s"] / x["frames"]),
+        "ms_per_frame": 1000 * med("pool", lambda x: x["wall_s"] / x["frames"]),
+        "cpu_ms_per_frame": 1000 * med("pool", lambda x: x["cpu_s"] / x["frames"]),
+        "one_process": single,
+        "speedup_over_one_process": statistics.median(x["single"]["wall_s"] / x["pool"]["wall_s"]
+                                                      for x in films),
+        "identical_mp4": all(x["identical"] for x in films),
+        "wall_per_sim_second": med("pool", lambda x: x["wall_s"] / seconds),
         "sim_wall_s": statistics.median(sims["off"]),
         "sim_wall_s_with_poses": statistics.median(sims["on"]),
         "poses_cost": statistics.median(sims["on"]) / statistics.median(sims["off"]) - 1.0,
         "sim_time_s": rig.plant.time,
         # measured side by side, so machine load cancels: filming one simulated second at x1 against
         # simulating it
-        "video_over_simulation": med(lambda x: x.wall_s / seconds) / (statistics.median(sims["off"])
-                                                                         / rig.plant.time),
+        "video_over_simulation": med("pool", lambda x: x["wall_s"] / seconds)
+        / (statistics.median(sims["off"]) / rig.plant.time),
     }

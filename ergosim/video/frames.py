@@ -21,7 +21,15 @@ import numpy as np
 from ergosim.errors import RenderError
 from ergosim.scenes.cellspec import View
 
-__all__ = ["PoseRenderer", "RenderQuality", "quat_to_mat", "open_renderer"]
+__all__ = ["PoseRenderer", "RenderQuality", "quat_to_mat", "open_renderer", "gl_used"]
+
+_GL_CONTEXTS = [0]  # offscreen contexts this process opened
+
+
+def gl_used() -> bool:
+    """True once this process opened an offscreen OpenGL context (a child forked from it would inherit
+    the driver's state, so :mod:`ergosim.video.render_pool` spawns instead)."""
+    return _GL_CONTEXTS[0] > 0
 
 
 @dataclasses.dataclass(frozen=True)
@@ -48,6 +56,7 @@ def quat_to_mat(quat: np.ndarray) -> np.ndarray:
 
 def open_renderer(model: mujoco.MjModel, width: int, height: int) -> mujoco.Renderer:
     """MuJoCo's offscreen renderer, or a one-line :class:`RenderError` saying how to get an OpenGL context."""
+    _GL_CONTEXTS[0] += 1
     try:
         return mujoco.Renderer(model, height=height, width=width)
     except Exception as err:  # glfw without a display, no EGL driver, ...: MuJoCo raises several kinds
