@@ -56,6 +56,8 @@ class Pricing:
         found = np.flatnonzero(agents == model.human)
         self.human = int(found[0]) if len(found) else -1
         self.k = model.rest_rate
+        self.pilot = None
+        """The beam's per-configuration table for this call (:func:`~ergosim.planner.pilot.pilot_table`)."""
         self.allowed = self.view.allowed.copy()
         act_of = {a: i for i, a in enumerate(graph.actions)}
         agent_of = {a.name: i for i, a in enumerate(graph.agents)}

@@ -31,7 +31,7 @@ class PilotTable:
     def __init__(self, pricing) -> None:
         n_a, p = pricing.alpha.shape
         self.shape = (n_a, p)
-        self.slot: dict[int, int] = {}
+        self.slot = np.full(64, -1, dtype=np.int64)  # configuration id -> row, -1: not yet
         self.data = np.zeros((64, n_a + 1, 3 * p + 3))
         self.ok = np.zeros((64, n_a + 1), dtype=bool)
         self.r = np.zeros(64, dtype=np.int64)
@@ -39,13 +39,17 @@ class PilotTable:
 
     def rows(self, pricing, cids: np.ndarray, need: np.ndarray) -> np.ndarray:
         """The slots of configurations ``cids`` (n,), computing those not seen yet from ``need`` (n, A)."""
-        slot = self.slot
-        new = {int(c): i for i, c in enumerate(cids.tolist()) if c not in slot}
-        if new:
-            self._add(pricing, list(new), need[list(new.values())])
-        return np.fromiter((slot[c] for c in cids.tolist()), dtype=np.int64, count=len(cids))
+        top = int(cids.max()) + 1
+        if top > len(self.slot):
+            grow = max(top, 2 * len(self.slot)) - len(self.slot)
+            self.slot = np.concatenate([self.slot, np.full(grow, -1)])
+        missing = np.flatnonzero(self.slot[cids] < 0)
+        if len(missing):
+            fresh, first = np.unique(cids[missing], return_index=True)
+            self._add(pricing, fresh, need[missing[first]])
+        return self.slot[cids]
 
-    def _add(self, pr, cids: list[int], need: np.ndarray) -> None:
+    def _add(self, pr, cids: np.ndarray, need: np.ndarray) -> None:
         n, (n_a, p) = len(cids), self.shape
         human, robot = pr.human_ok[None], np.isfinite(pr.robot_min)[None]
         wear = (1.0 - pr.alpha).sum(axis=1)
@@ -82,8 +86,7 @@ class PilotTable:
             self.ok = np.resize(self.ok, (grow,) + self.ok.shape[1:])
             self.r = np.resize(self.r, grow)
         self.data[self.size:end], self.ok[self.size:end], self.r[self.size:end] = block, ok, r
-        for i, c in enumerate(cids):
-            self.slot[c] = self.size + i
+        self.slot[cids] = np.arange(self.size, end)
         self.size = end
 
     def estimate(self, pr, cids: np.ndarray, need: np.ndarray, v: np.ndarray, t: np.ndarray) -> np.ndarray:
@@ -113,6 +116,8 @@ class PilotTable:
 def pilot_table(pricing) -> PilotTable:
     """The :class:`PilotTable` of ``pricing``'s model on its graph, kept on the graph's transitions while the
     arrays it depends on stay the same (a run re-prices the same configurations every repetition)."""
+    if pricing.pilot is not None:
+        return pricing.pilot
     digest = hashlib.blake2b(digest_size=16)
     for arr in (pricing.alpha, pricing.max_rest, pricing.robot_min, pricing.duration[:, pricing.human],
                 pricing.robot_duration, pricing.human_ok):
@@ -124,4 +129,5 @@ def pilot_table(pricing) -> PilotTable:
         if len(tables) >= 8:  # keep the last few models' tables
             tables.pop(next(iter(tables)))
         table = tables[key] = PilotTable(pricing)
+    pricing.pilot = table
     return table
