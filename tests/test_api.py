@@ -67,6 +67,7 @@ def test_run_returns_the_summary_and_the_records_as_objects(results):
         results.runs("hrc")
 
 
+@pytest.mark.slow
 def test_the_same_seed_gives_the_same_records(results, tmp_path):
     again = api.run(api.load(write_product(tmp_path, scenario=QUICK), subjects=2), seed=3, jobs=2,
                     out=tmp_path / "out")
@@ -82,6 +83,7 @@ def test_a_session_steps_one_action_at_a_time(tmp_path):
         api.session(write_product(tmp_path), "hrc", calibrate=False)
 
 
+@pytest.mark.slow
 def test_the_layout_comparison_example_runs(tmp_path):
     proc = subprocess.run([sys.executable, str(ROOT / "examples" / "compare_layouts.py"), "--subjects", "1",
                            "--reps", "1", "--jobs", "1"], capture_output=True, text=True, timeout=600,

@@ -10,6 +10,7 @@ import json
 
 import extension_mode
 import numpy as np
+import pytest
 from own_product import write_product
 
 from ergosim import api
@@ -24,6 +25,7 @@ def test_a_new_mode_and_risk_index_are_registered_by_importing_one_module():
     assert extension_mode.__name__ in extension_modules()  # worker processes will import it too
 
 
+@pytest.mark.slow
 def test_the_new_mode_runs_end_to_end_in_worker_processes(tmp_path, capsys):
     """Two subjects in two spawned processes, which import extension_mode themselves."""
     out = tmp_path / "peak"

@@ -24,7 +24,7 @@ from ergosim.errors import ConfigError, InfeasiblePlanError, TaskFileError
 from ergosim.planner import Agent, AndOrGraph, Operation, generate_task, limits, load_task
 from ergosim.planner.taskfile import parse_task
 from ergosim.twin.run_folder import RunFolder
-from ergosim.viz import sinks
+from ergosim.viz import recorder, sinks
 from ergosim.worker.bvh_parse import parse_bvh_text
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -60,26 +60,32 @@ def _valid_outputs(out: Path) -> dict:
 
 
 # -- 1. hangs: a recorder that cannot deliver, a viewer that cannot open -------------------------------------
-def test_connect_to_a_dead_port_fails_after_a_bounded_flush_with_the_results_written(tmp_path):
+def test_connect_to_a_dead_port_fails_after_a_bounded_flush_with_the_results_written(tmp_path, capsys,
+                                                                                    monkeypatch):
+    """In-process, with the flush bound cut from its default to 2 s: the run waits that long, no longer."""
+    assert 0 < recorder._FLUSH_TIMEOUT < 280
+    monkeypatch.setattr(recorder, "_FLUSH_TIMEOUT", 2.0)
     out = tmp_path / "x"
     start = time.monotonic()
-    proc = _cli([*KV, "--connect", "rerun+http://127.0.0.1:9/proxy", "--out", str(out)], timeout=300)
-    assert proc.returncode == 2, proc.stderr
-    assert "ergosim: error: --spawn/--connect: the recording did not reach the viewer" in proc.stderr
-    assert "Traceback" not in proc.stderr
+    code = main([*KV, "--connect", "rerun+http://127.0.0.1:9/proxy", "--out", str(out)])
+    printed = capsys.readouterr()
+    assert code == 2, printed.err
+    assert "ergosim: error: --spawn/--connect: the recording did not reach the viewer" in printed.err
+    assert "Traceback" not in printed.err
     assert time.monotonic() - start < 280
     summary = _valid_outputs(out)
     assert summary["complete"] is True and (out / "ticks.csv").is_file()
-    assert "results:" in proc.stdout  # the summary is printed before the error
+    assert "results:" in printed.out  # the summary is printed before the error
 
 
-def test_spawn_without_a_display_is_refused_before_the_run(tmp_path):
-    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
+def test_spawn_without_a_display_is_refused_before_the_run(tmp_path, capsys, monkeypatch):
+    monkeypatch.delenv("DISPLAY", raising=False)
+    monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
     out = tmp_path / "x"
-    proc = subprocess.run([sys.executable, "-m", "ergosim.cli", *KV, "--spawn", "--out", str(out)],
-                          capture_output=True, text=True, timeout=120, env=env, check=False)
-    assert proc.returncode == 2 and proc.stderr.count("\n") == 1, proc.stderr
-    assert "--spawn: cannot open a viewer: no display" in proc.stderr
+    code = main([*KV, "--spawn", "--out", str(out)])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1, err
+    assert "--spawn: cannot open a viewer: no display" in err
     assert not out.exists()
 
 
@@ -198,6 +204,7 @@ def test_a_run_removes_what_an_earlier_run_left_and_keeps_other_files(tmp_path):
     assert (tmp_path / "escape").read_text() == "outside"  # a manifest cannot point outside the folder
 
 
+@pytest.mark.slow
 def test_interrupting_a_run_over_an_earlier_complete_one_leaves_no_stale_complete_summary(tmp_path):
     out = tmp_path / "o"
     _earlier_run(out)
@@ -388,6 +395,7 @@ def _wait_for_subjects(out: Path, n: int, proc: subprocess.Popen, timeout: float
         time.sleep(0.1)
 
 
+@pytest.mark.slow
 def test_ctrl_c_with_two_jobs_prints_no_worker_traceback(tmp_path):
     out = tmp_path / "o"
     proc = subprocess.Popen([sys.executable, "-m", "ergosim.cli", "run", "kwear-validation", "--subjects",
@@ -410,6 +418,7 @@ def test_ctrl_c_with_two_jobs_prints_no_worker_traceback(tmp_path):
     assert summary["complete"] is False and summary["status"] == "interrupted", (summary["status"], err)
 
 
+@pytest.mark.slow
 def test_sigterm_writes_the_finished_subjects_like_sigint(tmp_path):
     out = tmp_path / "o"
     proc = subprocess.Popen([sys.executable, "-m", "ergosim.cli", "run", "kwear-validation", "--subjects",

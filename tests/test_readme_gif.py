@@ -9,6 +9,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
 from PIL import Image
 
 from ergosim.twin.runner import run_subject
@@ -45,6 +46,7 @@ def test_the_committed_gif_is_the_scripts_output_for_todays_simulation():
     assert any(agent == "robot" and status == "done" for _, agent, status, *_ in doc["attempts"])
 
 
+@pytest.mark.slow
 def test_the_script_makes_a_looping_gif_with_its_provenance(tmp_path):
     out = tmp_path / "clip.gif"
     env = {**os.environ, "MUJOCO_GL": "egl"}

@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from ergosim.twin.benchmark import bench_repetition
 
@@ -18,6 +19,7 @@ def test_one_repetition_is_timed_against_raw_stepping_of_the_same_simulated_time
     assert res["wall"] > 0 and res["raw_wall"] > 0 and res["failures"] == 0
 
 
+@pytest.mark.slow
 def test_script_writes_the_json_fields_scripts_rely_on(tmp_path):
     out = tmp_path / "bench.json"
     script = Path(__file__).resolve().parents[1] / "scripts" / "bench_sim.py"

@@ -17,7 +17,6 @@ import pytest
 from ergosim.cli import main
 from ergosim.posture import KWEAR_JOINTS
 from ergosim.twin.runner import run_subject
-from ergosim.twin.scenario_run import run_scenario
 from ergosim.twin.scenariofile import load_scenario
 from ergosim.viz import RecordingReader
 
@@ -104,15 +103,13 @@ def test_robot_rests_the_worker(hrc_run):
         assert np.all(np.diff(v, axis=0)[both] < 0)
 
 
-def _summary(tmp_path, jobs, name):
-    sc = load_scenario("kwear-validation", {"subjects": "2", "repetitions": "1", "modes": "hrc"})
-    out = tmp_path / name
-    run_scenario(sc, seed=0, out=out, jobs=jobs, progress=False)
-    return out
-
-
-def test_same_seed_same_results_serial_or_parallel(tmp_path):
-    a, b = _summary(tmp_path, 1, "serial"), _summary(tmp_path, 2, "parallel")
+@pytest.mark.slow
+def test_same_seed_same_results_serial_or_parallel(kv_two_subjects, tmp_path):
+    """The shared two-subject run (one process, tests/conftest.py) against the same run in two processes."""
+    a, b = kv_two_subjects.out, tmp_path / "parallel"
+    assert kv_two_subjects.code == 0
+    assert main(["run", "kwear-validation", "--subjects", "2", "--reps", "1", "--jobs", "2", "--quiet",
+                 "--out", str(b)]) == 0
     for name in ("summary.json", "allocations.csv", "ticks.csv"):
         assert (a / name).read_bytes() == (b / name).read_bytes(), name
     summary = json.loads((a / "summary.json").read_text())
@@ -145,10 +142,8 @@ def test_cli_error_has_no_traceback_in_a_subprocess(tmp_path):
     assert "unknown scenario 'no-such-scenario'" in proc.stderr and "Traceback" not in proc.stderr
 
 
-def test_recording_of_a_run_matches_its_ticks_file(tmp_path):
-    out, rrd = tmp_path / "out", tmp_path / "run.rrd"
-    code = main(["run", "kwear-validation", "--reps", "1", "--mode", "hrc", "--out", str(out),
-                 "--rrd", str(rrd), "--quiet", "--jobs", "1"])
+def test_recording_of_a_run_matches_its_ticks_file(kv_run):
+    out, rrd, code = kv_run  # the shared run (tests/conftest.py)
     assert code == 0
     verify = subprocess.run([sys.executable, "-m", "rerun", "rrd", "verify", str(rrd)], check=False,
                             capture_output=True, text=True)

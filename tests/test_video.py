@@ -115,7 +115,7 @@ def test_two_seconds_of_a_run_to_mp4_and_back(recorded, tmp_path):
     a = next(x for x in run.allocations if x.agent == "human")
     path = tmp_path / "clip.mp4"
     stats = write_run_video(cell, run, VideoRequest(path, width=320, height=180), header="test",
-                            window=(a.t_start, a.t_start + 2.0))
+                            window=(a.t_start, a.t_start + 2.0), workers=0)  # rendered here: the same MP4
     meta, frames = read_mp4(path)
     assert stats.frames == 61 == len(frames) and stats.seconds == pytest.approx(61 / 30)
     assert meta["size"] == (320, 180) and meta["fps"] == 30.0 and meta["codec"] == "h264"
@@ -189,10 +189,12 @@ def _run(out: Path, *extra: str) -> int:
                  "--out", str(out), *extra])
 
 
-def test_outputs_are_byte_identical_with_and_without_video(tmp_path, capsys):
-    """Issue 16 proof: the video is made from what the run recorded, after it; no output changes."""
-    plain, filmed = tmp_path / "plain", tmp_path / "filmed"
-    assert _run(plain) == 0
+@pytest.mark.slow
+def test_outputs_are_byte_identical_with_and_without_video(kv_run, tmp_path, capsys):
+    """Issue 16 proof: the video is made from what the run recorded, after it; no output changes. The plain
+    run is the shared one (tests/conftest.py: the same arguments)."""
+    plain, filmed = kv_run.out, tmp_path / "filmed"
+    assert kv_run.code == 0
     assert _run(filmed, "--video", str(tmp_path / "run.mp4"), "--video-speed", "40", "--video-size",
                 "320x180", "--video-reps", "1") == 0
     assert "video: " in capsys.readouterr().out
@@ -236,6 +238,7 @@ def test_render_writes_a_still_from_a_named_view(tmp_path, capsys):
     assert main(["render", "gearbox", "--out", str(tmp_path / "cell.jpg")]) == 2
 
 
+@pytest.mark.slow
 def test_sigterm_while_filming_keeps_the_results_and_leaves_no_partial_video(tmp_path):
     out, video = tmp_path / "out", tmp_path / "run.mp4"
     env = {**os.environ, "MUJOCO_GL": "egl"}

@@ -26,6 +26,7 @@ def recorded():
     return res.runs["hrc"], subject_cell(sc, make_subjects(1, 0)[0])
 
 
+@pytest.mark.slow
 def test_worker_processes_write_the_same_mp4_as_one_process(recorded, tmp_path, monkeypatch):
     run, cell = recorded
     a = next(x for x in run.allocations if x.agent == "human")
@@ -42,6 +43,7 @@ def test_worker_processes_write_the_same_mp4_as_one_process(recorded, tmp_path, 
     assert sorted(p.name for p in tmp_path.iterdir()) == ["one.mp4", "pool1.mp4", "pool2.mp4", "pool3.mp4"]
 
 
+@pytest.mark.slow
 def test_forked_workers_write_the_same_mp4_as_one_process(tmp_path):
     """In a fresh interpreter that never opened OpenGL the workers are forked; the one-process film is made
     in a forked child (ergosim.video.benchmark), as scripts/bench_sim.py --video does."""

@@ -13,7 +13,6 @@ import numpy as np
 import pytest
 from rerun.chunk import RrdReader
 
-from ergosim.cli import main
 from ergosim.posture import ANGLE_NAMES, KWEAR_JOINTS
 from ergosim.scenes import build_cell
 from ergosim.twin.runner import subject_cell
@@ -27,14 +26,11 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 @pytest.fixture(scope="module")
-def recorded(tmp_path_factory):
-    """A real run with a failure in it (L beyond the worker's reach), recorded."""
-    out = tmp_path_factory.mktemp("layout")
-    rrd = out / "run.rrd"
-    assert main(["run", "multi-subject", "--subjects", "1", "--reps", "2", "--mode", "hrc", "--jobs", "1",
-                 "--quiet", "--set", "scene.l_xy=0.14,0.88", "--out", str(out / "out"),
-                 "--rrd", str(rrd)]) == 0
-    return out / "out", rrd
+def recorded(forced_run):
+    """A real run with a failure in it (L beyond the worker's reach), recorded: the shared forced run
+    (tests/conftest.py)."""
+    assert forced_run.code == 0
+    return forced_run.out, forced_run.rrd
 
 
 def _blueprints(rrd: Path) -> list[dict[str, list]]:
