@@ -11,8 +11,10 @@ from gymnasium.utils.env_checker import check_env
 
 import ergosim.gym
 from ergosim import api
+from ergosim.cli import main
 from ergosim.errors import ConfigError
 from ergosim.gym import ENV_ID, AllocationEnv, evaluate, mode_policy, random_policy
+from ergosim.twin.report import write_allocations
 from ergosim.twin.runner import run_subject
 
 pytestmark = pytest.mark.filterwarnings("ignore::UserWarning:gymnasium")
@@ -64,6 +66,19 @@ def test_a_mode_replayed_through_the_env_is_its_run(scenario, mode):
     np.testing.assert_array_equal(got.ticks.rows, ran.ticks.rows)
     assert episode.kwear_integral == pytest.approx(float(ran.ticks.kwear.sum()) * ran.dt_tick, rel=1e-12)
     assert episode.steps == sum(a.status != "pruned" for a in ran.allocations)
+
+
+def test_the_papers_rule_through_the_env_writes_the_allocations_of_ergosim_run(scenario, tmp_path):
+    """``ergosim run`` itself (the CLI, in this process) against the paper's rule replayed through the env:
+    the same allocations.csv, byte for byte."""
+    out = tmp_path / "run"
+    assert main(["run", "multi-subject", "--subjects", "1", "--reps", "2", "--mode", "hrc", "--seed", "5",
+                 "--jobs", "1", "--quiet", "--out", str(out)]) == 0
+    env = AllocationEnv(scenario, mode="hrc", repetitions=2)
+    evaluate(env, mode_policy, seed=5)
+    write_allocations(tmp_path / "env.csv", env.result.allocations)
+    cli = (out / "allocations.csv").read_text()
+    assert len(cli.splitlines()) > 8 and (tmp_path / "env.csv").read_text() == cli
 
 
 def test_masked_choice_changes_nothing_and_the_episode_ends(scenario):

@@ -183,9 +183,11 @@ def test_beam_on_a_large_chain_stays_within_its_reported_gap(width):
 ACTION_OF = {"L": "a2", "S1": "a3", "S2": "a4"}
 
 
-def _free_group(order):
-    """J into the area, then three free insertions (any order), listed in ``order`` in the file."""
-    lines = ['name = "free"', 'parts = ["area", "J", "L", "S1", "S2"]', "[agents.human]", 'kind = "human"',
+def _free_group(order, parts=("L", "S1", "S2")):
+    """J into the area, then three free insertions (any order), listed in ``order`` in the file (the parts
+    list in ``parts``)."""
+    listed = ", ".join(f'"{p}"' for p in ("area", "J", *parts))
+    lines = ['name = "free"', f"parts = [{listed}]", "[agents.human]", 'kind = "human"',
              "[agents.robot]", 'kind = "robot"', "[[liaisons]]", 'parts = ["area", "J"]', 'action = "a1"']
     for part in order:
         lines += ["[[liaisons]]", f'parts = ["J", "{part}"]', f'action = "{ACTION_OF[part]}"']
@@ -193,10 +195,11 @@ def _free_group(order):
     return parse_task("\n".join(lines), source="free.toml")
 
 
-def _free_plan(order):
-    graph = _free_group(order)
-    alphas = {"a1": np.full(5, 0.97), "a2": np.full(5, 0.80), "a3": np.full(5, 0.95), "a4": np.full(5, 0.93)}
+def _free_plan(order, parts=("L", "S1", "S2"), a3=0.95):
+    graph = _free_group(order, parts)
+    alphas = {"a1": np.full(5, 0.97), "a2": np.full(5, 0.80), "a3": np.full(5, a3), "a4": np.full(5, 0.93)}
     durations = {(a, "human"): 5.0 for a in alphas} | {(a, "robot"): 15.0 for a in alphas}
+    durations[("a2", "robot")] = 17.0
     model = WearModel.build(graph.actions, ["human", "robot"], "human", alphas=alphas, kwear=KW,
                             cost=CostParams(robot_cost=2.5), durations=durations)
     done = [op.name for op in graph.operations if op.action == "a1"]
@@ -209,6 +212,17 @@ def test_the_file_order_does_not_change_the_plan():
              for order in (("L", "S1", "S2"), ("S2", "S1", "L"), ("S1", "L", "S2"))]
     assert plans[0] == plans[1] == plans[2]
     assert ("a2", "robot") in plans[0] and ("a3", "human") in plans[0]
+
+
+def test_equal_cost_orders_do_not_follow_the_file():
+    """Two actions that both go to the robot cost the same in either order (the worker rests through both):
+    the tie is broken by name, not by where the task file lists them."""
+    orders = (("L", "S1", "S2"), ("S2", "S1", "L"), ("S1", "L", "S2"))
+    plans = {(order, parts): [(s.action, s.agent) for s in _free_plan(order, parts, a3=0.80).steps]
+             for order in orders for parts in orders}
+    first = plans[orders[0], orders[0]]
+    assert all(plan == first for plan in plans.values())
+    assert sorted(a for a, agent in first if agent == "robot") == ["a2", "a3"]
 
 
 # -- contract ---------------------------------------------------------------------------------------------

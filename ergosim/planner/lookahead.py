@@ -30,7 +30,9 @@ since every sequence is priced between those two order-free sums. Measured again
 random graphs (``tests/test_planner_lookahead.py``, docs/allocation_modes.md) the beam is usually exact.
 
 Tie-breaking: among sequences of equal cost (within :func:`~ergosim.planner.bottom_up.tolerance`) the one
-found first in (cost, agent, operation) order of the children wins; results never depend on hash order.
+found first in (cost, action name, agent name) order of the children wins, costs compared to
+``REL_TOL`` (two robot actions in a row cost the same in either order, up to rounding): results depend
+neither on hash order nor on the order of the task file.
 Only action-once tasks (:class:`~ergosim.planner.transitions.Transitions`) get the bound and the beam's
 estimate; on other graphs both are 0, so the exact search is plain enumeration and the beam ranks by cost
 so far.
@@ -44,7 +46,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ergosim.errors import ConfigError, InfeasiblePlanError
-from ergosim.planner.bottom_up import tolerance
+from ergosim.planner.bottom_up import REL_TOL, tolerance
 from ergosim.planner.chain_pricing import Pricing, SequentialPricing
 from ergosim.planner.plan import PlanStep
 from ergosim.planner.wear_chain import WearModel
@@ -96,6 +98,13 @@ class LookaheadPlan:
         return 0.0 if self.exact else max(0.0, self.cost - self.lower_bound)
 
 
+def _name_rank(names: list) -> np.ndarray:
+    """Each name's place in sorted order."""
+    rank = np.empty(len(names), dtype=np.int64)
+    rank[sorted(range(len(names)), key=names.__getitem__)] = np.arange(len(names))
+    return rank
+
+
 def _take(state, idx):
     return tuple(a[idx] for a in state)
 
@@ -108,6 +117,15 @@ class SequenceSearch:
         self.pricing = pricing
         self.view = pricing.view
         self.expanded = 0
+        graph = pricing.graph
+        self.op_rank = _name_rank([(o.action, o.name) for o in graph.operations])
+        self.agent_rank = _name_rank([a.name for a in graph.agents])
+
+    def order(self, cost: np.ndarray, op: np.ndarray, agent: np.ndarray) -> np.ndarray:
+        """Indices of the children by cost (equal within ``REL_TOL``), then action and agent names."""
+        scale = max(1.0, float(np.max(np.abs(cost[np.isfinite(cost)]), initial=0.0)))
+        level = np.where(np.isfinite(cost), np.round(cost / (REL_TOL * scale)), np.inf)
+        return np.lexsort((self.agent_rank[agent], self.op_rank[op], level))
 
     # ----------------------------------------------------------------------------------------- beam
     def beam(self, cid0: int, state0, width: int):
@@ -131,14 +149,14 @@ class SequenceSearch:
             if done.any():
                 idx = np.flatnonzero(done)
                 total = g[idx] + pricing.terminal(_take(child, idx))
-                k = int(np.lexsort((op[idx], agent[idx], total))[0])
+                k = int(self.order(total, op[idx], agent[idx])[0])
                 if best is None or total[k] < best[0] - tolerance(best[0]):
                     best = (float(total[k]), len(levels) - 1, int(idx[k]))
             live = np.flatnonzero(~done)
             if not len(live):
                 break
             f = g[live] + pricing.estimate(_take(child, live), need[live], lowest=False, cids=nxt[live])
-            order = live[np.lexsort((op[live], agent[live], f))]
+            order = live[self.order(f, op[live], agent[live])]
             _, first = np.unique(nxt[order], return_index=True)  # one partial sequence per configuration
             keep = order[np.sort(first)][:width]
             levels[-1][5] = keep
@@ -197,7 +215,7 @@ class SequenceSearch:
             raise _OutOfBudget
         child, price, start = self.pricing.step(_take(state, np.zeros(n, dtype=np.int64)), op, act, agent)
         bound = child[0] + self.pricing.estimate(child, need, lowest=True)
-        for i in np.lexsort((op, agent, bound)).tolist():
+        for i in self.order(bound, op, agent).tolist():
             if self._best is not None and bound[i] >= self._best[0] - tolerance(self._best[0]):
                 continue
             self._path.append((int(op[i]), int(agent[i]), float(price[i]), float(start[i])))
