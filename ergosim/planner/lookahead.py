@@ -40,6 +40,7 @@ so far.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable
 from dataclasses import dataclass
 
@@ -98,13 +99,6 @@ class LookaheadPlan:
         return 0.0 if self.exact else max(0.0, self.cost - self.lower_bound)
 
 
-def _name_rank(names: list) -> np.ndarray:
-    """Each name's place in sorted order."""
-    rank = np.empty(len(names), dtype=np.int64)
-    rank[sorted(range(len(names)), key=names.__getitem__)] = np.arange(len(names))
-    return rank
-
-
 def _take(state, idx):
     return tuple(a[idx] for a in state)
 
@@ -117,15 +111,14 @@ class SequenceSearch:
         self.pricing = pricing
         self.view = pricing.view
         self.expanded = 0
-        graph = pricing.graph
-        self.op_rank = _name_rank([(o.action, o.name) for o in graph.operations])
-        self.agent_rank = _name_rank([a.name for a in graph.agents])
 
     def order(self, cost: np.ndarray, op: np.ndarray, agent: np.ndarray) -> np.ndarray:
         """Indices of the children by cost (equal within ``REL_TOL``), then action and agent names."""
-        scale = max(1.0, float(np.max(np.abs(cost[np.isfinite(cost)]), initial=0.0)))
-        level = np.where(np.isfinite(cost), np.round(cost / (REL_TOL * scale)), np.inf)
-        return np.lexsort((self.agent_rank[agent], self.op_rank[op], level))
+        scale = float(np.abs(cost).max(initial=1.0))
+        if not math.isfinite(scale):
+            scale = float(np.abs(cost[np.isfinite(cost)]).max(initial=1.0))
+        level = np.round(cost / (REL_TOL * scale))  # ±inf stays ±inf
+        return np.lexsort((self.view.agent_rank[agent], self.view.op_rank[op], level))
 
     # ----------------------------------------------------------------------------------------- beam
     def beam(self, cid0: int, state0, width: int):

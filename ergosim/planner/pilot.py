@@ -25,14 +25,14 @@ __all__ = ["PilotTable", "pilot_table"]
 class PilotTable:
     """Per configuration id, one row of ``data`` (A+1 splits m = 0..A, padded): columns ``[0:p]`` Σ_{k≤m}
     Π_{j≤k} α (the worker's chain sums), ``[p:2p]`` Π_{j≤m} α, ``[2p:3p]`` Π_{j≤m+1} α (the chain's next
-    step, for Γ), then the robots' rest seconds, their costs and the completion's duration; ``ok`` the split
-    is allowed; ``r`` the needed count. Rows grow by doubling."""
+    step, for Γ), then the robots' rest seconds, their costs, the completion's duration and Σ_p of the
+    chain sums; ``ok`` the split is allowed; ``r`` the needed count. Rows grow by doubling."""
 
     def __init__(self, pricing) -> None:
         n_a, p = pricing.alpha.shape
         self.shape = (n_a, p)
         self.slot = np.full(64, -1, dtype=np.int64)  # configuration id -> row, -1: not yet
-        self.data = np.zeros((64, n_a + 1, 3 * p + 3))
+        self.data = np.zeros((64, 3 * p + 4, n_a + 1))  # field-major: each field's splits contiguous
         self.ok = np.zeros((64, n_a + 1), dtype=bool)
         self.r = np.zeros(64, dtype=np.int64)
         self.size = 0
@@ -72,20 +72,23 @@ class PilotTable:
         m = np.arange(n_a + 1)[None, :]
         ok = (m <= r[:, None]) & np.isfinite(cost) & (m >= (need & ~robot).sum(axis=1)[:, None]) & (
             r[:, None] - m >= (need & ~human).sum(axis=1)[:, None])
+        sums = np.concatenate([zeros, np.cumsum(prod, axis=1)], axis=1)
         block = np.concatenate([
-            np.concatenate([zeros, np.cumsum(prod, axis=1)], axis=1),
+            sums,
             np.concatenate([ones, prod], axis=1),
             np.concatenate([prod, prod[:, -1:]], axis=1),
             suffix(ranked(pr.max_rest))[:, :, None],
             np.where(np.isfinite(cost), cost, 0.0)[:, :, None],
-            (seconds + suffix(ranked(pr.robot_duration)))[:, :, None]], axis=2)
+            (seconds + suffix(ranked(pr.robot_duration)))[:, :, None],
+            sums.sum(axis=2)[:, :, None]], axis=2)
         end = self.size + n
         if end > len(self.r):
             grow = max(end, 2 * len(self.r))
             self.data = np.resize(self.data, (grow,) + self.data.shape[1:])
             self.ok = np.resize(self.ok, (grow,) + self.ok.shape[1:])
             self.r = np.resize(self.r, grow)
-        self.data[self.size:end], self.ok[self.size:end], self.r[self.size:end] = block, ok, r
+        self.data[self.size:end] = block.transpose(0, 2, 1)
+        self.ok[self.size:end], self.r[self.size:end] = ok, r
         self.slot[cids] = np.arange(self.size, end)
         self.size = end
 
@@ -96,20 +99,33 @@ class PilotTable:
         ix = self.rows(pr, cids, need)
         top = int(self.r[ix].max()) + 1  # splits past the most needed actions are empty
         p = v.shape[1]
-        rows = self.data[ix, :top]
-        w = 1.0 - v[:, None, :]
-        start = 1.0 - v[:, None, :] * np.exp(-pr.k * rows[:, :, 3 * p])[:, :, None]  # 1 − V after the rests
+        rows = self.data[ix, :, :top]  # (n, field, split)
+        model = pr.model
+        rest = np.exp(-pr.k * rows[:, 3 * p])  # V after the robots' rests: V·rest
         m = np.arange(top)
-        total = m * p - np.einsum("nmp,nmp->nm", start, rows[:, :, :p]) + rows[:, :, 3 * p + 1]
-        chain = 1.0 - w * rows[:, :, 2 * p:3 * p]  # the worker's V after its (m + 1)-th step, without rest
-        if np.any(chain >= pr.model.v_th):  # Γ: the steps past V_th
-            first = np.where(chain >= pr.model.v_th, m[None, :, None], top).min(axis=1)
-            total += pr.model.cost.gamma * np.clip(m[None, :, None] - first[:, None, :], 0, None).sum(axis=2)
-        if pr.model.next_weight:  # the next repetition's order-free price of the V left, uncapped: linear
-            left = np.einsum("nmp,p->nm", start * rows[:, :, p:2 * p], pr.next_alpha)
-            total += pr.model.next_weight * (pr.next_flat - left)
-        end = t[:, None] + rows[:, :, 3 * p + 2]
-        total += pr.time_terms(np.broadcast_to(t[:, None], end.shape), end)
+        # Σ_p (1 − V·rest)·S = Σ_p S − rest·Σ_p V·S
+        total = m * p - rows[:, 3 * p + 3] + rest * np.einsum("npm,np->nm", rows[:, :p], v) \
+            + rows[:, 3 * p + 1]
+        w = 1.0 - v
+        # the worker's V after its (m + 1)-th step (without rest) grows with m: Γ once a joint's reaches V_th
+        hot = 1.0 - w * rows[:, 2 * p:3 * p, -1] >= model.v_th  # (n, p): the joint gets there at all
+        if hot.any():
+            h = np.flatnonzero(hot.any(axis=1))
+            chain = 1.0 - w[h, :, None] * rows[h, 2 * p:3 * p]
+            first = np.where(hot[h], np.argmax(chain >= model.v_th[:, None], axis=2), top)  # (h, p)
+            count = np.bincount((np.arange(len(h))[:, None] * (top + 1) + first).ravel(),
+                                minlength=len(h) * (top + 1)).reshape(len(h), top + 1)
+            # Σ_p max(0, m − first_p) = Σ_{j<m} #{p: first_p <= j}
+            total[h, 1:] += model.cost.gamma * np.cumsum(np.cumsum(count[:, :top - 1], axis=1), axis=1)
+        if model.next_weight:  # the next repetition's order-free price of the V left, uncapped: linear
+            prods = rows[:, p:2 * p]
+            left = np.einsum("npm,p->nm", prods, pr.next_alpha) \
+                - rest * np.einsum("npm,np->nm", prods, v * pr.next_alpha[None])
+            total += model.next_weight * (pr.next_flat - left)
+        end = t[:, None] + rows[:, 3 * p + 2]
+        total += model.takt_weight * (np.maximum(0.0, end - model.takt)
+                                      - np.maximum(0.0, t - model.takt)[:, None])
+        total += model.time_weight * rows[:, 3 * p + 2]
         return np.where(self.ok[ix, :top], total, np.inf).min(axis=1)
 
 

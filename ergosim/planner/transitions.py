@@ -69,6 +69,11 @@ class Transitions:
         for k, agents in enumerate(self.op_agents):
             self.allowed[self.op_action[k], agents] = True
         """(A, N) bool: the agent has a hyper-arc for some operation of the action."""
+        self.op_rank = _name_rank([(op.action, op.name) for op in graph.operations])
+        """(operations,) each operation's place in (action name, operation name) order: the searches' ties
+        are broken by names, never by the order of the task file."""
+        self.agent_rank = _name_rank([a.name for a in graph.agents])
+        """(N,) each agent's place in name order."""
         nodes = {m for kids in self.children for m in kids} | set(self.father)
         self._node_bit = {m: 1 << i for i, m in enumerate(sorted(nodes))}
         self._op_bits = [sum(self._node_bit[c] for c in kids) for kids in self.children]
@@ -205,6 +210,12 @@ def transitions(graph) -> Transitions:
     if view is None:
         view = _CACHE[graph] = Transitions(graph)
     return view
+
+
+def _name_rank(names: list) -> np.ndarray:
+    rank = np.empty(len(names), dtype=np.int64)
+    rank[sorted(range(len(names)), key=names.__getitem__)] = np.arange(len(names))
+    return rank
 
 
 def _mask(parts: Iterable[str], bit: dict[str, int]) -> int:
