@@ -2,7 +2,7 @@
 
     python scripts/team_study.py [--scenario multi-subject] [--subjects 12] [--reps 10] [--seed 0]
                                  [--mode hrc] [--jobs 2] [--negotiation] [--lookahead | --only-lookahead]
-                                 [--out results/team_study]
+                                 [--set KEY=VALUE ...] [--out results/team_study]
 
 Runs the scenario twice in one mode, with ``execution = "sequential"`` (the paper's loop) and
 ``"parallel"`` (every idle agent gets the best ready operation), the same subjects and seeds, into
@@ -14,7 +14,8 @@ monitor's time, with the parallel/sequential ratios, and writes them to ``OUT/te
 ``kwear-lookahead`` mode's decisions, which look at time (issue 24); ``--only-lookahead`` runs only the
 sequential baseline and that one. Each parallel run is compared with the sequential one (ratios and the
 paired Wilcoxon test on the subjects' KWear integrals). Nothing is tuned: every run uses the scenario's
-calibrated defaults.
+calibrated defaults, with ``--set`` overrides (``ergosim run``'s keys) applied to every run, e.g.
+``--set time_weight=0.5`` for a sensitivity row.
 """
 
 from __future__ import annotations
@@ -81,9 +82,17 @@ def main(argv: list[str] | None = None) -> int:
                    help="another run: parallel with the kwear-lookahead mode's decisions (issue 24)")
     p.add_argument("--only-lookahead", action="store_true",
                    help="run only the sequential baseline and the parallel look-ahead")
+    p.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
+                   help="a protocol or scene override for every run (repeatable)")
     p.add_argument("--out", type=Path, default=Path("results/team_study"))
     a = p.parse_args(argv)
     base = {"modes": a.mode, "subjects": str(a.subjects), "repetitions": str(a.reps)}
+    for item in a.overrides:
+        key, sep, value = item.partition("=")
+        if not sep or not key.strip():
+            print(f"error: --set {item!r}: expected KEY=VALUE", file=sys.stderr)
+            return 2
+        base[key.strip()] = value.strip()
     settings = {"sequential": {"execution": "sequential"}, "parallel": {"execution": "parallel"}}
     if a.only_lookahead:
         del settings["parallel"]

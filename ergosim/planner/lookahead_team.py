@@ -19,9 +19,10 @@ HRT weighs makespan beside ergonomics in the same way):
 
 The cheapest schedule is searched with the sequential look-ahead's exact search or beam (same limits, same
 reported bound; :mod:`ergosim.planner.lookahead`). The decision: the first step of every idle agent in that
-schedule, if it starts now; an idle agent whose first step starts later waits for it. So a robot is not given
-an action that the worker would finish long before the robot: the schedule in which the worker does it is
-shorter, and cheaper by the time it saves.
+schedule, if it starts now; an idle agent whose first step starts later waits for it. A robot gets an action
+that the worker would finish long before it only if the wear the worker is spared (and its rest while it
+waits) outweighs ``time_weight`` × the longer makespan: the gearbox's parallel runs still show it
+(docs/allocation_modes.md).
 """
 
 from __future__ import annotations
