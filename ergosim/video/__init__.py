@@ -3,7 +3,7 @@
 Typical use (what ``ergosim run ... --video FILE.mp4`` does after the simulation)::
 
     run = run_subject(scenario, 0, seed, ("hrc",), record_mode="hrc").runs["hrc"]   # keeps body poses
-    cell = subject_cell(scenario, make_subjects(1, seed)[0])                        # the cell it ran in
+    cell = subject_cell(scenario, scenario_subject(scenario, 0, seed))              # the cell it ran in
     write_run_video(cell, run, VideoRequest(Path("run.mp4"), reps=(1, 1), speed=4))
 
 Frame rendering (:mod:`~ergosim.video.frames`), what a frame says (:mod:`~ergosim.video.timeline`), the

@@ -7,12 +7,14 @@ i comes from ``SeedSequence([seed, i])``, so a parallel run equals the serial ru
 from __future__ import annotations
 
 import dataclasses
+import logging
 
 import numpy as np
 
 from ergosim.ergonomics.kwear import KWearParams, kwear_trajectory
 from ergosim.ergonomics.risk_index import KWearIndex
 from ergosim.errors import ConfigError
+from ergosim.experiment.scenario import Scenario
 from ergosim.posture import KWEAR_JOINTS
 from ergosim.scenes import Workcell, build_cell
 from ergosim.twin.allocator import Allocator
@@ -22,7 +24,6 @@ from ergosim.twin.loop import Plant
 from ergosim.twin.modes import IndexContext, get_mode, get_risk_index
 from ergosim.twin.records import SubjectRun
 from ergosim.twin.robot_track import RobotTrack
-from ergosim.twin.scenariofile import Scenario
 from ergosim.twin.session import Session
 from ergosim.twin.team_setup import make_session
 from ergosim.twin.worker_track import WorkerTrack
@@ -31,6 +32,8 @@ from ergosim.worker.subjects import Subject, make_subjects
 
 __all__ = ["SubjectResult", "Rig", "scenario_subject", "subject_cell", "build_rig", "make_allocator",
            "calibrate_subject", "subject_session", "run_subject"]
+
+log = logging.getLogger(__name__)
 
 
 @dataclasses.dataclass
@@ -72,8 +75,8 @@ class Rig:
 def scenario_subject(scenario: Scenario, index: int, seed: int) -> Subject:
     """Subject ``index`` of ``seed``'s population, drawn as the scenario's protocol says (female fraction,
     pace); it depends only on (seed, index)."""
-    cfg = scenario.protocol
-    return make_subjects(index + 1, seed, female_fraction=cfg.female_fraction, pace=cfg.pace)[index]
+    people = scenario.protocol.population
+    return make_subjects(index + 1, seed, female_fraction=people.female_fraction, pace=people.pace)[index]
 
 
 def subject_cell(scenario: Scenario, subject: Subject) -> Workcell:
@@ -90,14 +93,17 @@ def _subject_in(cell: Workcell, subject: Subject) -> Subject:
 def build_rig(scenario: Scenario, subject: Subject, rng: np.random.Generator, record_bodies: bool = False,
               alphas=None) -> Rig:
     cfg = scenario.protocol
+    sensing = cfg.sensing
     cell = subject_cell(scenario, subject)
     subject = _subject_in(cell, subject)
-    track = WorkerTrack.for_subject(subject, rng, rate=cfg.mocap_rate, dropout_rate=cfg.dropout_rate,
-                                    noise=cfg.noise_scale)
-    kwear = KWearIndex(subject.kwear_params(), alphas or {}, online_weight=cfg.online_alpha_weight)
-    plant = Plant(cell, track, kwear, mocap_rate=cfg.mocap_rate,
-                  ergonomics_rate=cfg.ergonomics_rate, physics_dt=cfg.physics_dt, record_bodies=record_bodies)
-    robots = {r: RobotTrack(cell, ee_speed=cfg.ee_speed, transit_speed=cfg.transit_speed, robot=r)
+    track = WorkerTrack.for_subject(subject, rng, rate=sensing.mocap_rate, dropout_rate=sensing.dropout_rate,
+                                    noise=sensing.noise_scale)
+    kwear = KWearIndex(subject.kwear_params(), alphas or {},
+                       online_weight=cfg.calibration.online_alpha_weight)
+    plant = Plant(cell, track, kwear, mocap_rate=sensing.mocap_rate,
+                  ergonomics_rate=sensing.ergonomics_rate, physics_dt=sensing.physics_dt,
+                  record_bodies=record_bodies)
+    robots = {r: RobotTrack(cell, ee_speed=cfg.robot.ee_speed, transit_speed=cfg.robot.transit_speed, robot=r)
               for r in cell.robots}
     plant.robot = next(iter(robots.values()), None)
     return Rig(cell, plant, track.worker, robots, scenario.task())
@@ -106,14 +112,15 @@ def build_rig(scenario: Scenario, subject: Subject, rng: np.random.Generator, re
 def _calibrate(scenario: Scenario, subject: Subject, rng: np.random.Generator):
     """Calibrate ``subject`` in the scenario's workcell; also return the first pass's KWear traces and MTM-1
     analyses, and the mean duration of each action's executions [s] (the worker's expected durations)."""
-    cfg = scenario.protocol
+    sensing, calibration = scenario.protocol.sensing, scenario.protocol.calibration
     cell = subject_cell(scenario, subject)
     subject = _subject_in(cell, subject)
-    cal = SceneCalibration.for_subject(cell, subject, rng, mocap_rate=cfg.mocap_rate,
-                                       ergonomics_rate=cfg.ergonomics_rate, actions=scenario.task().actions,
-                                       dropout_rate=cfg.dropout_rate, noise=cfg.noise_scale)
+    cal = SceneCalibration.for_subject(cell, subject, rng, mocap_rate=sensing.mocap_rate,
+                                       ergonomics_rate=sensing.ergonomics_rate,
+                                       actions=scenario.task().actions,
+                                       dropout_rate=sensing.dropout_rate, noise=sensing.noise_scale)
     params = subject.kwear_params()
-    result = cal.run(params, eta0=cfg.eta0, eta_max=cfg.eta_max, v_des=cfg.v_des)
+    result = cal.run(params, eta0=calibration.eta0, eta_max=calibration.eta_max, v_des=calibration.v_des)
     traces = {}
     for action, ex in cal.passes[0].items():
         v = kwear_trajectory(np.zeros(len(KWEAR_JOINTS)), ex.g, ex.dt, params)
@@ -192,11 +199,12 @@ def run_subject(scenario: Scenario, index: int, seed: int, modes: tuple[str, ...
     slots = tuple(range(len(modes))) if slots is None else tuple(slots)
     seqs = [np.random.SeedSequence([seed, index], spawn_key=(k,)) for k in (0, *(1 + s for s in slots))]
     calibration, traces, mtm, seconds = _calibrate(scenario, subject, np.random.default_rng(seqs[0]))
+    log.debug("subject %d (%s): calibrated, η %s", index, subject.name, dict(calibration.eta))
     runs: dict[str, SubjectRun] = {}
     for mode, seq in zip(modes, seqs[1:], strict=True):
         session = _session(scenario, index, subject, mode, np.random.default_rng(seq), calibration,
                            record_bodies=mode in recorded, seed=seed, human_seconds=seconds)
-        runs[mode] = session.run(cfg.repetitions)
+        runs[mode] = session.run(cfg.pacing.repetitions)
         runs[mode].calibration_eta = calibration.eta
     return SubjectResult(
         subject=index, name=subject.name, runs=runs, eta=calibration.eta,

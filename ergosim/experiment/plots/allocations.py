@@ -11,8 +11,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ergosim.twin.plots.style import mode_colour, plt
-from ergosim.twin.plots.tables import Attempt
+from ergosim.experiment.plots.style import mode_colour, plt
+from ergosim.experiment.plots.tables import Attempt
 
 __all__ = ["allocation_figure", "robot_counts", "robots_may_act"]
 

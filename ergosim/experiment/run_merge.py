@@ -3,30 +3,32 @@
 Each shard keeps what its summary is computed from (``subject_records.json``). The merge checks that the
 shards are finished runs of the same scenario, seed and protocol with disjoint subjects that join into
 one contiguous range, then recomputes every statistic from the joined records through the same code a
-run uses (:mod:`ergosim.twin.run_summary`): shards that cover every subject give the unsharded
-``summary.json``, ``allocations.csv``, ``failures.csv``, ``subjects.csv`` and ``subject_records.json``
-byte for byte. ``ticks.csv`` and ``kwear_actions.csv`` are joined line by line in the run's order, the
-KWear state files are copied, and the figures are drawn again from the merged files, as
-``ergosim plot`` draws them.
+run uses (:mod:`ergosim.experiment.summary`, :mod:`ergosim.experiment.outputs`): shards that cover every
+subject give the unsharded ``summary.json``, ``allocations.csv``, ``failures.csv``, ``subjects.csv`` and
+``subject_records.json`` byte for byte. Outputs the records cannot give are made from the shards' files
+as their entry says: ``ticks.csv`` and ``kwear_actions.csv`` joined line by line in the run's order, the
+KWear state files copied; the figures are drawn again from the merged files, as ``ergosim plot`` draws
+them.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import json
+import logging
 import os
 from collections.abc import Sequence
 from pathlib import Path
 
-from ergosim.atomic import atomic_open, write_bytes
 from ergosim.errors import ConfigError
-from ergosim.twin.plots import write_plots
-from ergosim.twin.report import write_subjects, write_summary
-from ergosim.twin.run_folder import MANIFEST, RunFolder
-from ergosim.twin.run_summary import summary_of, write_record_files
-from ergosim.twin.subject_records import RECORDS_FILE, SubjectRecord, read_records
+from ergosim.experiment.outputs import Products, merge_outputs
+from ergosim.experiment.run_folder import MANIFEST, RunFolder
+from ergosim.experiment.subject_records import RECORDS_FILE, SubjectRecord, read_records
+from ergosim.experiment.summary import summary_of
 
 __all__ = ["Shard", "MergeResult", "read_shard", "merge_runs"]
+
+log = logging.getLogger(__name__)
 
 _MERGEABLE = ("complete", "abandoned")
 
@@ -104,34 +106,6 @@ def _joined_range(shards: Sequence[Shard]) -> range:
     return range(ordered[0].subjects.start, ordered[-1].subjects.stop)
 
 
-def _header(paths: Sequence[Path], name: str) -> str:
-    headers = []
-    for p in paths:
-        with p.open(encoding="utf-8") as f:
-            headers.append(f.readline())
-    if len(set(headers)) != 1:
-        raise ConfigError(f"{name} columns differ between shards", where=str(paths[0].parent))
-    return headers[0]
-
-
-def _merge_lines(shards: Sequence[Shard], name: str, out: Path, groups: Sequence[str] | None = None) -> None:
-    """``name`` of the run from the shards' (in subject order): every shard's lines, or with ``groups``
-    (modes) the lines of each group (the second column) in turn, as ticks.csv orders mode, then subject."""
-    paths = [s.path / name for s in shards]
-    if not all(p.is_file() for p in paths):
-        return
-    header = _header(paths, name)
-    with atomic_open(out / name, "w") as dst:
-        dst.write(header)
-        for group in groups if groups is not None else [None]:
-            for p in paths:
-                with p.open(encoding="utf-8", newline="") as f:
-                    next(f)
-                    for line in f:
-                        if group is None or line.split(",", 2)[1] == group:
-                            dst.write(line)
-
-
 def merge_runs(dirs: Sequence[str | os.PathLike[str]], out: str | os.PathLike[str]) -> MergeResult:
     """Merge the run folders ``dirs`` (shards of one run) into ``out``, which the merge owns (run.json)."""
     if not dirs:
@@ -149,6 +123,8 @@ def merge_runs(dirs: Sequence[str | os.PathLike[str]], out: str | os.PathLike[st
         raise ConfigError(f"{shards[0].path} is a team-execution run (execution = {config['execution']!r}); "
                           "its team.json is computed from the per-tick logs and cannot be merged from shards",
                           where="ergosim merge")
+    log.debug("merging %d shard(s) of %s (seed %d), subjects %d..%d, into %s", len(shards), name, seed,
+              subjects.start, subjects.stop - 1, out)
     folder = RunFolder(out, scenario=name, seed=seed)
     folder.claim(config)
     records = sorted((r for s in shards for r in s.records), key=lambda r: r.subject)
@@ -156,17 +132,8 @@ def merge_runs(dirs: Sequence[str | os.PathLike[str]], out: str | os.PathLike[st
     try:
         summary = summary_of(name, seed, config, records, subject_range=span, complete=True,
                              status="complete")
-        write_record_files(out, name, seed, config, records, subject_range=span)
-        _merge_lines(shards, "ticks.csv", out, groups=sorted(config["modes"]))
-        _merge_lines(shards, "kwear_actions.csv", out)
-        write_subjects(out / "subjects.csv", [(r.name, r.runs[m]) for m in config["modes"] for r in records
-                                              if m in r.runs])
-        for s in shards:
-            for state in sorted(s.path.glob("kwear_state_s*_*.json")):
-                write_bytes(out / state.name, state.read_bytes())
-        if (out / "ticks.csv").is_file():
-            write_plots(out)
-        write_summary(out / "summary.json", summary)
+        merge_outputs(out, Products(name, seed, config, tuple(records), span, summary),
+                      [s.path for s in shards])
     except BaseException:
         folder.finish("failed", "the merge stopped before it wrote every file")
         raise

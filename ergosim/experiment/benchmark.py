@@ -15,9 +15,9 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
-from ergosim.twin.recording import record_run
-from ergosim.twin.runner import _calibrate, build_rig, make_allocator, scenario_subject
-from ergosim.twin.scenariofile import load_scenario
+from ergosim.experiment.recording import record_run
+from ergosim.experiment.runner import _calibrate, build_rig, make_allocator, scenario_subject
+from ergosim.experiment.scenario import load_scenario
 from ergosim.twin.session import Session
 from ergosim.viz import open_recording
 
@@ -42,7 +42,7 @@ def bench_repetition(scenario: str, mode: str = "hrc", seed: int = 0,
     if record:
         with tempfile.TemporaryDirectory() as tmp:
             rec = open_recording(rrd=Path(tmp) / "bench.rrd")
-            record_run(rec, rig.cell.model, run, cfg.v_th, rig.cell.parts)
+            record_run(rec, rig.cell.model, run, cfg.cost.v_th, rig.cell.parts)
             rec.close()
     wall = time.perf_counter() - t0
     sim = rig.plant.time
@@ -88,7 +88,7 @@ def bench_sim(scenario: str, mode: str = "hrc", repeats: int = 3, seed: int = 0,
 
 def bench_full(scenario: str, jobs: int = 2, seed: int = 0) -> dict:
     """Wall time of the whole scenario (e.g. 12 subjects x 10 repetitions x 2 modes), ``jobs`` processes."""
-    from ergosim.twin.scenario_run import run_scenario  # noqa: PLC0415
+    from ergosim.experiment.scenario_run import run_scenario  # noqa: PLC0415
 
     with tempfile.TemporaryDirectory() as tmp:
         t0 = time.perf_counter()

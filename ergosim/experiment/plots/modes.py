@@ -13,9 +13,9 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ergosim.twin.plots.style import mode_colour, plt
-from ergosim.twin.plots.tables import SubjectRow
-from ergosim.twin.report import wilcoxon_between
+from ergosim.experiment.plots.style import mode_colour, plt
+from ergosim.experiment.plots.tables import SubjectRow
+from ergosim.experiment.summary import wilcoxon_between
 
 __all__ = ["modes_figure", "paired_tests"]
 

@@ -14,9 +14,9 @@ import matplotlib.transforms as mtransforms
 import numpy as np
 from matplotlib.patches import Patch
 
+from ergosim.experiment.plots.style import COLOURS, agent_colour, plt
+from ergosim.experiment.plots.tables import Attempt, TickTable
 from ergosim.posture import KWEAR_JOINTS
-from ergosim.twin.plots.style import COLOURS, agent_colour, plt
-from ergosim.twin.plots.tables import Attempt, TickTable
 
 __all__ = ["timeline_figure"]
 

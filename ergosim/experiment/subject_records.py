@@ -4,7 +4,7 @@ outcomes and load figures, without the per-tick arrays.
 A run writes them to ``subject_records.json`` beside ``summary.json``; ``ergosim merge`` reads the records
 of several shards (``ergosim run --subject-range A:B``) and recomputes the summary from them, so a merged
 summary is the unsharded one byte for byte. A :class:`RunRecord` has the attributes of a
-:class:`~ergosim.twin.records.SubjectRun` that :func:`~ergosim.twin.report.summarise` reads, so the
+:class:`~ergosim.twin.records.SubjectRun` that :func:`~ergosim.experiment.summary.summarise` reads, so the
 summary of a finished run and of its records is one computation. Floats are stored as JSON numbers, which
 round-trip float64 exactly; NaN and ±inf (the costs of a pruned row) as the strings ``"nan"``, ``"inf"``
 and ``"-inf"``.
@@ -103,7 +103,7 @@ class SubjectRecord:
 
     @classmethod
     def of(cls, result) -> SubjectRecord:
-        """The record of a :class:`~ergosim.twin.runner.SubjectResult`."""
+        """The record of a :class:`~ergosim.experiment.runner.SubjectResult`."""
         return cls(subject=result.subject, name=result.name, eta=dict(result.eta),
                    calibration_errors=dict(result.calibration_errors), alphas=dict(result.alphas),
                    rula_g=dict(result.rula_g), runs={m: RunRecord.of(r) for m, r in result.runs.items()},

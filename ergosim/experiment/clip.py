@@ -18,11 +18,10 @@ from pathlib import Path
 from ergosim import __version__
 from ergosim.atomic import write_json
 from ergosim.errors import ConfigError, RenderError
-from ergosim.twin.runner import run_subject, subject_cell
-from ergosim.twin.scenariofile import load_scenario
+from ergosim.experiment.runner import run_subject, scenario_subject, subject_cell
+from ergosim.experiment.scenario import load_scenario
 from ergosim.video.encode import gif_from_mp4
 from ergosim.video.run_video import VideoRequest, write_run_video
-from ergosim.worker.subjects import make_subjects
 
 __all__ = ["ClipSettings", "repetition_clip", "robot_repetition", "MAX_GIF_BYTES"]
 
@@ -71,7 +70,7 @@ def repetition_clip(gif: str | os.PathLike[str], settings: ClipSettings = ClipSe
                                           "modes": "hrc"})
     run = run_subject(scenario, s.subject, s.seed, ("hrc",), record_mode="hrc").runs["hrc"]
     rep = robot_repetition(run)
-    cell = subject_cell(scenario, make_subjects(s.subject + 1, s.seed)[s.subject])
+    cell = subject_cell(scenario, scenario_subject(scenario, s.subject, s.seed))
     gif.parent.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(dir=gif.parent, prefix=f".{gif.name}.") as tmp:
         mp4 = Path(tmp) / "clip.mp4"

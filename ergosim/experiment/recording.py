@@ -10,7 +10,7 @@ import numpy as np
 
 from ergosim.posture import KWEAR_JOINTS
 from ergosim.twin.records import TICK_COLUMNS, SubjectRun
-from ergosim.viz import TwinRecorder, default_body_groups
+from ergosim.viz import TwinRecorder, default_body_groups, reason_text
 
 __all__ = ["record_run"]
 
@@ -40,7 +40,8 @@ def record_run(recorder: TwinRecorder, model, run: SubjectRun, v_th: float, part
                            r[:, _GRAND], run.ticks.kwear[sel])
     _log_repetitions(recorder, run)  # first: at equal times the log keeps this order
     for d in run.decisions:
-        recorder.log_decision(d.time, d.repetition, d.v_now, d.v_hat, d.costs, (d.action, d.agent), d.reason)
+        recorder.log_decision(d.time, d.repetition, d.v_now, d.v_hat, d.costs, (d.action, d.agent),
+                              reason_text(d))
     for f in run.failures:  # failed attempts and abandoned repetitions, beside the decisions
         recorder.log_event(f.time, f.repetition, f"{f.status}: {f.message}", level="WARN")
     for o in run.offers:  # negotiation: the worker's refusals, each before the re-planned decision

@@ -1,7 +1,7 @@
 """Scenario files: read one, resolve its task and workcell, apply overrides, and register scenarios by name.
 
 A :class:`Scenario` is everything a run needs, resolved and checked before any physics: the protocol
-(:class:`~ergosim.twin.scenario.ScenarioConfig`), the task's TOML text and the workcell document, with
+(:class:`~ergosim.twin.protocol.ScenarioConfig`), the task's TOML text and the workcell document, with
 the workcell overrides kept apart so each subject's workcell can add its own body to them. It is plain
 data, so it travels to worker processes as it is.
 """
@@ -9,6 +9,7 @@ data, so it travels to worker processes as it is.
 from __future__ import annotations
 
 import dataclasses
+import logging
 import os
 import tomllib
 from collections.abc import Mapping
@@ -21,25 +22,27 @@ from ergosim.overrides import apply_overrides
 from ergosim.planner import AndOrGraph, bundled_task_source, bundled_task_text, task_from_dict
 from ergosim.planner.bundled import BUNDLED_TASKS
 from ergosim.planner.task_overrides import apply_task_overrides
-from ergosim.plugins import note_caller
+from ergosim.registry import Registry
 from ergosim.scenes import CellSpec, apply_cell_overrides, cell_document, parse_cell
-from ergosim.scenes.cellfile import read_toml
-from ergosim.twin.scenario import ScenarioConfig
+from ergosim.scenes.cellfile import override_paths, read_toml
+from ergosim.twin.protocol import ScenarioConfig
 
-__all__ = ["Scenario", "register_scenario", "scenario_names", "scenario_path", "scenario_info",
+__all__ = ["Scenario", "SCENARIOS", "register_scenario", "scenario_names", "scenario_path", "scenario_info",
            "load_scenario", "scenario_config", "split_overrides"]
+
+log = logging.getLogger(__name__)
 
 _TOP = {"name", "description", "task", "workcell", "protocol"}
 _LABEL_FIELDS = ("scene", "task")
 
-_SCENARIOS: dict[str, Path] = {}
+SCENARIOS: Registry[Path] = Registry("scenario", where="ergosim run", hint="or the path of a scenario file")
+"""The scenario files by name."""
 
 
 def register_scenario(name: str, path: str | os.PathLike[str]) -> None:
     """Make the scenario file at ``path`` runnable by ``name`` (``ergosim run NAME``, ``ergosim
     scenarios``)."""
-    note_caller()
-    _SCENARIOS[name] = Path(path)
+    SCENARIOS.register(name, Path(path))
 
 
 for _f in sorted(resources.files("ergosim").joinpath("data", "scenarios").iterdir(), key=lambda f: f.name):
@@ -48,18 +51,15 @@ for _f in sorted(resources.files("ergosim").joinpath("data", "scenarios").iterdi
 
 
 def scenario_names() -> tuple[str, ...]:
-    return tuple(_SCENARIOS)
+    return SCENARIOS.names()
 
 
 def scenario_path(name_or_path: str | os.PathLike[str]) -> Path:
     """The file of a registered scenario, or ``name_or_path`` itself when it is a file."""
     text = str(name_or_path)
-    if text in _SCENARIOS:
-        return _SCENARIOS[text]
-    if text.endswith(".toml") or os.sep in text:
+    if text not in SCENARIOS and (text.endswith(".toml") or os.sep in text):
         return Path(text)
-    raise ConfigError(f"unknown scenario {text!r}; valid scenarios: {', '.join(_SCENARIOS)} "
-                      "(or the path of a scenario file)", where="ergosim run")
+    return SCENARIOS.get(text)
 
 
 def scenario_info(name: str) -> dict[str, Any]:
@@ -79,8 +79,9 @@ def scenario_info(name: str) -> dict[str, Any]:
 
 @dataclasses.dataclass(frozen=True)
 class Scenario:
-    """A resolved scenario. ``cell_overrides``: workcell overrides (dotted path or alias -> value) applied
-    on top of ``cell_doc`` for every subject."""
+    """A resolved scenario. ``cell_overrides``: workcell overrides (dotted path or alias -> value, as the
+    user gave them) on top of ``cell_doc`` for every subject; ``cell_resolved``: ``cell_doc`` with them
+    applied, converted and checked once, when they were set (None without overrides)."""
 
     name: str
     source: str
@@ -90,16 +91,21 @@ class Scenario:
     cell_doc: Mapping[str, Any]
     cell_source: str
     cell_overrides: Mapping[str, Any] = dataclasses.field(default_factory=dict)
+    cell_resolved: Mapping[str, Any] | None = None
 
     def task(self) -> AndOrGraph:
         return task_from_dict(dict(self.task_doc), source=self.task_source)
 
     def cell(self, **extra: Any) -> CellSpec:
-        """The workcell with ``extra`` (e.g. a subject's body) and then the scenario's overrides applied.
-        Messages name the file with the overrides, e.g. ``multi-subject.toml (with
-        scene.side_table_height=1.15)``, so a problem an override made says which one."""
-        overrides = {**extra, **dict(self.cell_overrides)}
-        doc = apply_cell_overrides(self.cell_doc, overrides, where=f"{self.cell_source} (overrides)")
+        """The workcell with the scenario's overrides and ``extra`` (typed fields by dotted path, e.g. a
+        subject's body) where no override set the same field: the scenario's overrides win. Messages name the
+        file with the overrides, e.g. ``multi-subject.toml (with scene.side_table_height=1.15)``, so a
+        problem an override made says which one."""
+        doc = self.cell_doc if self.cell_resolved is None else self.cell_resolved
+        fixed = {p for key in self.cell_overrides for p in override_paths(self.cell_doc, key)}
+        extra = {k: v for k, v in extra.items() if k not in fixed}
+        if extra:
+            doc = apply_cell_overrides(doc, extra, where=f"{self.cell_source} (overrides)")
         said = ", ".join(f"scene.{k}={_said(v)}" for k, v in self.cell_overrides.items())
         return parse_cell(doc, source=f"{self.cell_source} (with {said})" if said else self.cell_source)
 
@@ -127,10 +133,12 @@ class Scenario:
         own = groups["protocol"]
         protocol = apply_overrides(new.protocol, own, where=where) if own else new.protocol
         protocol.validate(where=where)
-        new = dataclasses.replace(new, protocol=protocol,
-                                  cell_overrides={**dict(new.cell_overrides), **groups["cell"]})
+        cell = {**dict(new.cell_overrides), **groups["cell"]}
+        resolved = apply_cell_overrides(new.cell_doc, cell, where=f"{new.cell_source} (overrides)") \
+            if cell else None
+        new = dataclasses.replace(new, protocol=protocol, cell_overrides=cell, cell_resolved=resolved)
         if new is not self and (groups["cell"] or groups["task"] or groups["refs"]):
-            from ergosim.twin.scenario_check import check_scenario  # noqa: PLC0415
+            from ergosim.experiment.scenario_check import check_scenario  # noqa: PLC0415
 
             check_scenario(new, new.task(), new.cell())  # a bad key or value fails now, before any physics
         return new
@@ -206,7 +214,7 @@ def load_scenario(name_or_path: str | os.PathLike[str],
     """Read, resolve and check a scenario (a registered name or a scenario file), with ``overrides``."""
     path = scenario_path(name_or_path)
     doc = read_toml(path, what="scenario file")
-    bundled = str(name_or_path) in _SCENARIOS
+    bundled = str(name_or_path) in SCENARIOS
     source = f"ergosim/data/scenarios/{path.name}" if bundled else str(path)
     unknown = sorted(set(doc) - _TOP)
     if unknown:
@@ -228,16 +236,16 @@ def load_scenario(name_or_path: str | os.PathLike[str],
     missing = [k for k in ("subjects", "repetitions", "modes", "robot_cost") if k not in protocol]
     if missing:
         raise ConfigError(f"missing key {missing[0]!r}", where=f"{source}: protocol")
-    base = ScenarioConfig(scene=cell.name, task=task_label, subjects=1, repetitions=1, modes=("hrc",),
-                          robot_cost=1.0)
+    base = ScenarioConfig(scene=cell.name, task=task_label)
     cfg = apply_overrides(base, {k: (tuple(v) if isinstance(v, list) else v) for k, v in protocol.items()},
                           where=f"{source}: protocol")
     cfg.validate(where=f"{source}: protocol")
     scenario = Scenario(name=name, source=source, protocol=cfg, task_doc=task_doc, task_source=task_source,
                         cell_doc=cell_doc, cell_source=cell_source)
-    from ergosim.twin.scenario_check import check_scenario  # noqa: PLC0415
+    from ergosim.experiment.scenario_check import check_scenario  # noqa: PLC0415
 
     check_scenario(scenario, scenario.task(), cell)
+    log.debug("scenario %s (%s): task %s, workcell %s", name, source, task_source, cell_source)
     return scenario.with_overrides(overrides) if overrides else scenario
 
 

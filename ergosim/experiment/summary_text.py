@@ -98,7 +98,7 @@ def summary_text(summary: dict, cfg) -> str:
     etas = cal.get("eta_by_subject", [])
     if etas:
         flat = [e for d in etas for e in d.values()]
-        lines.append(f"calibration η: min {min(flat)}, max {max(flat)} (η0 = {cfg.eta0}, "
-                     f"η_max = {cfg.eta_max}, Ṽ_des = {cfg.v_des:g})")
+        lines.append(f"calibration η: min {min(flat)}, max {max(flat)} (η0 = {cfg.calibration.eta0}, "
+                     f"η_max = {cfg.calibration.eta_max}, Ṽ_des = {cfg.calibration.v_des:g})")
     lines.extend(warning_lines(summary))
     return "\n".join(lines)

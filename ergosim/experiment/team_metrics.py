@@ -154,19 +154,20 @@ def team_mode_metrics(runs: Sequence[SubjectRun], takt: float, robots: Sequence[
 def team_document(cfg, runs_by_mode: Mapping[str, Sequence[SubjectRun]]) -> dict:
     """``team.json``: the team settings (execution, the cost weights used, negotiation) and each mode's
     :func:`team_mode_metrics`."""
-    settings = {**cfg.team_settings(), "gamma": cfg.gamma, "v_th": cfg.v_th, "robot_cost": cfg.robot_cost}
+    cost = cfg.cost
+    settings = {**cfg.team_settings(), "gamma": cost.gamma, "v_th": cost.v_th, "robot_cost": cost.robot_cost}
     modes = {}
     for mode, runs in runs_by_mode.items():
         if runs:
             robots = sorted({r for run in runs for r in run.robots})
-            modes[mode] = team_mode_metrics(runs, cfg.takt, robots)
+            modes[mode] = team_mode_metrics(runs, cfg.pacing.takt, robots)
     return {"settings": settings, "modes": modes}
 
 
 def team_in_summary(cfg, runs_by_mode: Mapping[str, Sequence[SubjectRun]]) -> bool:
     """Whether the run writes ``team.json`` and ``summary.json`` carries the team figures: when a team
     setting departs from the paper's protocol or the robots were monitored. A paper protocol's outputs
-    stay as they were (and its shards merge, :mod:`ergosim.twin.run_merge`); :func:`team_document` gives
+    stay as they were (and its shards merge, :mod:`ergosim.experiment.run_merge`); :func:`team_document` gives
     the same figures of any runs in memory (``scripts/team_study.py`` for the sequential baseline)."""
     return "execution" in cfg.record() or any(r.safety is not None for runs in runs_by_mode.values()
                                              for r in runs)

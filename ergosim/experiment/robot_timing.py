@@ -15,9 +15,9 @@ import statistics
 
 import numpy as np
 
+from ergosim.experiment.runner import build_rig, make_allocator, scenario_subject
+from ergosim.experiment.scenario import Scenario
 from ergosim.robot.status import SKILL_PHASES, SkillResult
-from ergosim.twin.runner import build_rig, make_allocator, scenario_subject
-from ergosim.twin.scenariofile import Scenario
 from ergosim.twin.session import Session
 
 __all__ = ["ActionTiming", "RobotOnlyRun", "robot_only_runs", "timing_summary", "format_summary"]

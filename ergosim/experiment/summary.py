@@ -1,63 +1,27 @@
-"""Turn subject runs into the files a user reads: summary.json, allocations.csv, ticks.csv, plots.
+"""summary.json: the figures of a run, computed from its subject records (paper §7: robot share, Table 1,
+the load proxies and the Wilcoxon test of §7.2).
 
-Every file is written atomically (:mod:`ergosim.atomic`), so an interrupted run leaves complete files.
+``ergosim run`` computes it after every finished subject, ``ergosim merge`` from the records of several
+shards; both go through :func:`summary_of`, so the merged summary of shards that cover every subject is the
+unsharded one byte for byte. :func:`summarise` reads runs through the attributes
+:class:`~ergosim.twin.records.SubjectRun` and :class:`~ergosim.experiment.subject_records.RunRecord` share.
 """
 
 from __future__ import annotations
 
-import csv
-import dataclasses
-import io
 import math
-from collections.abc import Sequence
-from pathlib import Path
+from collections.abc import Mapping, Sequence
+from typing import Any
 
 import numpy as np
 from scipy import stats
 
-from ergosim.atomic import atomic_open, write_json
-from ergosim.posture import KWEAR_JOINTS
+from ergosim.experiment.calibration_summary import calibration_summary
+from ergosim.experiment.subject_records import SubjectRecord
 from ergosim.twin.modes import mode_or_default
-from ergosim.twin.records import TICK_COLUMNS, Allocation, Failure, SubjectRun
+from ergosim.twin.records import Allocation, SubjectRun
 
-__all__ = [
-    "summarise",
-    "allocation_rows",
-    "wilcoxon_between",
-    "allocation_table",
-    "write_allocations",
-    "write_failures",
-    "write_ticks",
-    "write_summary",
-    "write_subjects",
-    "write_action_traces",
-    "ALLOCATION_COLUMNS",
-    "FAILURE_COLUMNS",
-    "SUBJECT_COLUMNS",
-    "ACTION_TRACE_COLUMNS",
-]
-
-ALLOCATION_COLUMNS = (
-    "subject", "mode", "repetition", "order", "action", "agent",
-    "human_cost", "robot_cost", "t_start", "t_end", "status", "attempt", "forced", "allocatable",
-)
-"""Columns of ``allocations.csv``: one row per attempt (see :class:`~ergosim.twin.records.Allocation`)."""
-
-FAILURE_COLUMNS = ("time", "subject", "mode", "repetition", "action", "agent", "status", "message")
-"""Columns of ``failures.csv``: one row per failed attempt or abandoned repetition."""
-
-SUBJECT_COLUMNS = (
-    "subject", "worker", "mode", "repetitions_completed", "repetitions_abandoned", "takt_overruns",
-    "kwear_integral", "kwear_integral_run", "kwear_mean", "time_above_vth", "duration", "actions_completed",
-    "robot_actions", "worker_agent",
-)
-"""Columns of ``subjects.csv``: one row per subject and mode; the per-subject figures of ``summary.json``
-(``kwear_integral`` [s] over repetitions × takt, ``kwear_integral_run`` [s] over the whole run,
-``kwear_mean``, ``time_above_vth`` [s], ``duration`` [s]), floats written exactly (``repr``)."""
-
-ACTION_TRACE_COLUMNS = ("subject", "action", "t") + tuple(f"kwear_{j}" for j in KWEAR_JOINTS)
-"""Columns of ``kwear_actions.csv``: KWear per joint while the worker performs each action once from zero wear
-(the first calibration execution), ``t`` [s] from the action's start (paper §7.1, the KWear figure)."""
+__all__ = ["summarise", "summary_of", "allocation_rows", "wilcoxon_between", "allocation_table"]
 
 
 def _finite(x: float) -> float | None:
@@ -196,71 +160,26 @@ def summarise(scenario: str, seed: int, runs_by_mode: dict[str, list[SubjectRun]
     return summary
 
 
-def write_summary(path: Path, summary: dict) -> None:
-    write_json(path, summary)
-
-
-def write_allocations(path: Path, allocations: Sequence[Allocation]) -> None:
-    """allocations.csv: :data:`ALLOCATION_COLUMNS`, one row per attempt, atomically."""
-    with atomic_open(path, "w") as f:
-        writer = csv.writer(f, lineterminator="\n")
-        writer.writerow(ALLOCATION_COLUMNS)
-        for a in allocations:
-            row = dataclasses.asdict(a)
-            writer.writerow([
-                row["subject"], row["mode"], row["repetition"], row["order"], row["action"], row["agent"],
-                repr(float(row["human_cost"])), repr(float(row["robot_cost"])),
-                f"{row['t_start']:.4f}", f"{row['t_end']:.4f}",
-                row["status"], row["attempt"], row["forced"], int(row["allocatable"]),
-            ])
-
-
-def write_failures(path: Path, failures: Sequence[Failure]) -> None:
-    """failures.csv: :data:`FAILURE_COLUMNS`, one row per failed attempt or abandoned repetition."""
-    with atomic_open(path, "w") as f:
-        writer = csv.writer(f, lineterminator="\n")
-        writer.writerow(FAILURE_COLUMNS)
-        for x in failures:
-            writer.writerow([f"{x.time:.4f}", x.subject, x.mode, x.repetition, x.action, x.agent, x.status,
-                             x.message])
-
-
-def write_ticks(path: Path, runs: Sequence[SubjectRun]) -> None:
-    """ticks.csv: subject, mode, then :data:`TICK_COLUMNS` at the ergonomics rate (NaN = dropout)."""
-    with atomic_open(path, "w") as f:
-        f.write(",".join(("subject", "mode") + TICK_COLUMNS) + "\n")
-        for run in sorted(runs, key=lambda r: (r.mode, r.subject)):
-            rows = run.ticks.rows
-            if rows.size == 0:
-                continue
-            buf = io.StringIO()
-            # 9 significant digits keep KWear well below the 1e-6 used to compare with recordings.
-            np.savetxt(buf, rows, fmt="%.9g", delimiter=",")
-            prefix = f"{run.subject},{run.mode},"
-            f.write("".join(prefix + line + "\n" for line in buf.getvalue().splitlines()))
-
-
-def write_subjects(path: Path, runs: Sequence[tuple[str, SubjectRun]]) -> None:
-    """subjects.csv: :data:`SUBJECT_COLUMNS` for each (worker name, run), in the order given."""
-    with atomic_open(path, "w") as f:
-        writer = csv.writer(f, lineterminator="\n")
-        writer.writerow(SUBJECT_COLUMNS)
-        for worker, r in runs:
-            done = [a for a in r.allocations if a.done]
-            writer.writerow([
-                r.subject, worker, r.mode, r.repetitions_completed,
-                sum(o.outcome == "abandoned" for o in r.outcomes), r.takt_overruns,
-                repr(r.kwear_integral), repr(r.kwear_integral_run), repr(r.kwear_mean),
-                repr(r.time_above_threshold), repr(r.duration), len(done),
-                sum(r.by_robot(a.agent) for a in done), r.human,
-            ])
-
-
-def write_action_traces(path: Path, traces: Sequence[tuple[int, str, np.ndarray, np.ndarray]]) -> None:
-    """kwear_actions.csv: :data:`ACTION_TRACE_COLUMNS` for each (subject, action, t (n,) [s], V (n, 5))."""
-    with atomic_open(path, "w") as f:
-        f.write(",".join(ACTION_TRACE_COLUMNS) + "\n")
-        for subject, action, t, v in traces:
-            buf = io.StringIO()
-            np.savetxt(buf, np.column_stack([t, v]), fmt="%.9g", delimiter=",")
-            f.write("".join(f"{subject},{action}," + line + "\n" for line in buf.getvalue().splitlines()))
+def summary_of(scenario: str, seed: int, config: Mapping[str, Any], records: Sequence[SubjectRecord], *,
+               subject_range: tuple[int, int], complete: bool, status: str = "running") -> dict:
+    """The ``summary.json`` document of ``records`` (any order). ``subject_range`` ``[first, end)``: the
+    subjects the run was asked for; a shard (not ``[0, subjects)``) says so in ``subject_range``."""
+    records = sorted(records, key=lambda r: r.subject)
+    modes = {m: [r.runs[m] for r in records if m in r.runs] for m in config["modes"]}
+    extra = {
+        "subjects": [r.name for r in records],
+        "calibration": calibration_summary(records),
+        "config": dict(config),
+    }
+    actions = sorted(records[0].alphas) if records else []
+    summary = summarise(scenario, seed, modes, actions=actions, complete=complete, extra=extra)
+    summary["rula_g_by_action"] = extra["calibration"]["rula_g_by_action"]  # G(a_k) per action, over subjects
+    abandoned = sum(m["repetitions_abandoned"] for m in summary["modes"].values())
+    summary["status"] = "abandoned" if status == "complete" and abandoned else status
+    summary["complete"] = complete and not abandoned
+    summary["subjects_finished"] = len(records)
+    summary["subjects_planned"] = subject_range[1] - subject_range[0]
+    summary["repetitions_abandoned"] = abandoned
+    if tuple(subject_range) != (0, config["subjects"]):
+        summary["subject_range"] = list(subject_range)
+    return summary

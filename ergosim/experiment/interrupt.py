@@ -9,12 +9,17 @@ stops them with :func:`stop_pool`, so no worker prints a traceback.
 from __future__ import annotations
 
 import contextlib
+import logging
 import signal
 import threading
 from collections.abc import Iterator
 
+from ergosim.logs import configure
+
 __all__ = ["Interrupted", "interrupt_on_signals", "signals_ignored", "quiet_worker", "stop_pool",
            "stop_reason", "STOP_SIGNALS"]
+
+log = logging.getLogger(__name__)
 
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
@@ -55,10 +60,13 @@ def interrupt_on_signals() -> Iterator[None]:
             signal.signal(s, handler)
 
 
-def quiet_worker() -> None:
-    """Initializer of a worker process: ignore SIGINT and SIGTERM (the main process stops the workers)."""
+def quiet_worker(log_level: int | None = None) -> None:
+    """Initializer of a worker process: ignore SIGINT and SIGTERM (the main process stops the workers), and
+    log as the main process does (``log_level``: :func:`ergosim.logs.configured_level`, None: as is)."""
     for s in STOP_SIGNALS:
         signal.signal(s, signal.SIG_IGN)
+    if log_level is not None:
+        configure(log_level)
 
 
 @contextlib.contextmanager

@@ -11,8 +11,8 @@ from collections.abc import Mapping
 
 import numpy as np
 
+from ergosim.experiment.plots.style import COLOURS, plt
 from ergosim.posture import KWEAR_JOINTS
-from ergosim.twin.plots.style import COLOURS, plt
 
 __all__ = ["actions_figure", "action_figure"]
 

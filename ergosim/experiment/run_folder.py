@@ -23,23 +23,24 @@ import contextlib
 import errno
 import fnmatch
 import json
+import logging
 import os
 from pathlib import Path
 
 from ergosim import __version__
 from ergosim.atomic import write_json
 from ergosim.errors import ConfigError
+from ergosim.experiment.outputs import OUTPUTS
 
 __all__ = ["MANIFEST", "RUN_STATUSES", "OUTPUT_PATTERNS", "RunFolder"]
 
+log = logging.getLogger(__name__)
+
 MANIFEST = "run.json"
 RUN_STATUSES = ("running", "complete", "abandoned", "interrupted", "failed")
-OUTPUT_PATTERNS = (
-    MANIFEST, "summary.json", "subject_records.json", "team.json", "allocations.csv", "failures.csv",
-    "ticks.csv", "subjects.csv", "kwear_actions.csv", "kwear_*.png", "kwear_timeline_*.png",
-    "allocation_histogram.png", "kwear_state_*.json",
-)
-"""Names ``ergosim run`` writes into its folder (glob patterns); an earlier run's are removed at start."""
+OUTPUT_PATTERNS = (MANIFEST, *(f for o in OUTPUTS for f in o.files))
+"""Names ``ergosim run`` writes into its folder (glob patterns: the manifest and every output's); an earlier
+run's are removed at start."""
 
 
 class RunFolder:
@@ -73,6 +74,9 @@ class RunFolder:
             self._undo_mkdir()
             raise ConfigError(f"cannot write into {path}: permission denied", where=self.where)
         self.removed = self._remove_stale()
+        if self.removed:
+            log.debug("removed %d file(s) an earlier run left in %s: %s", len(self.removed), path,
+                      ", ".join(self.removed))
         self.config = config or {}
         try:
             self._write("running", [])

@@ -4,13 +4,13 @@
 ``kwear_actions.csv`` back from the run's folder (never the run's memory) and writes:
 
 - ``kwear_timeline_<mode>.png``: KWear per joint over the run, a panel per subject, with V_th, repetition
-  starts, robot-acting spans and every attempt labelled (:mod:`~ergosim.twin.plots.timeline`);
+  starts, robot-acting spans and every attempt labelled (:mod:`~ergosim.experiment.plots.timeline`);
 - ``kwear_modes.png``: the KWear integral and the time above V_th per subject, mode against mode, paired
-  lines and the Wilcoxon p (:mod:`~ergosim.twin.plots.modes`; when two or more modes ran);
+  lines and the Wilcoxon p (:mod:`~ergosim.experiment.plots.modes`; when two or more modes ran);
 - ``kwear_actions.png``: the paper's KWear figure, every action from zero wear side by side, and
-  ``kwear_<action>.png`` each alone (:mod:`~ergosim.twin.plots.actions`);
+  ``kwear_<action>.png`` each alone (:mod:`~ergosim.experiment.plots.actions`);
 - ``allocation_histogram.png``: the robot's share of each action per mode, with counts
-  (:mod:`~ergosim.twin.plots.allocations`).
+  (:mod:`~ergosim.experiment.plots.allocations`).
 
 ``ergosim plot DIR`` redraws them for an existing folder, e.g. for other subjects (``--plot-subject``).
 """
@@ -23,11 +23,11 @@ from pathlib import Path
 import numpy as np
 
 from ergosim.errors import ConfigError
-from ergosim.twin.plots.actions import action_figure, actions_figure
-from ergosim.twin.plots.allocations import allocation_figure, robot_counts
-from ergosim.twin.plots.modes import modes_figure, paired_tests
-from ergosim.twin.plots.style import COLOURS, save_figure
-from ergosim.twin.plots.tables import (
+from ergosim.experiment.plots.actions import action_figure, actions_figure
+from ergosim.experiment.plots.allocations import allocation_figure, robot_counts
+from ergosim.experiment.plots.modes import modes_figure, paired_tests
+from ergosim.experiment.plots.style import COLOURS, save_figure
+from ergosim.experiment.plots.tables import (
     Attempt,
     RunInfo,
     SubjectRow,
@@ -38,7 +38,7 @@ from ergosim.twin.plots.tables import (
     read_subjects,
     read_ticks,
 )
-from ergosim.twin.plots.timeline import timeline_figure
+from ergosim.experiment.plots.timeline import timeline_figure
 
 __all__ = [
     "COLOURS",
