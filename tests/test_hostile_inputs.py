@@ -312,7 +312,7 @@ def test_an_overflowing_sum_is_diagnosed_not_an_index_error():
     from ergosim.planner import bottom_up  # noqa: PLC0415
 
     with pytest.raises(InfeasiblePlanError, match="overflows to inf"):
-        bottom_up.solve(graph, np.array(graph._leaf), np.array([1e308, 1e308]))
+        bottom_up.solve(graph, np.array(graph.leaves), np.array([1e308, 1e308]))
 
 
 # -- 9. documented bounds on size, memory and time -----------------------------------------------------

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ergosim import quat
 from ergosim.errors import ConfigError
 from ergosim.planner import AndOrGraph
 from ergosim.scenes import CellSpec
@@ -146,11 +147,7 @@ def check_reachability(scenario, task: AndOrGraph, cell) -> None:
 def _robot_reaches(cell, robot: str, kin, solve_ik, point: np.ndarray) -> bool:
     """A top-down TCP pose of ``robot`` 5 cm above ``point`` (world) within 1 cm of a solution."""
     base_p, base_q = cell.robot_base_pose(robot)
-    import mujoco  # noqa: PLC0415
-
-    r = np.empty(9)
-    mujoco.mju_quat2Mat(r, base_q)
-    r = r.reshape(3, 3)
+    r = quat.to_mat(base_q)
     local = r.T @ (np.asarray(point) + np.array([0, 0, 0.05]) - base_p)
     down = r.T @ np.diag([1.0, -1.0, -1.0])
     from ergosim.robot.mjcf import HOME_QPOS  # noqa: PLC0415

@@ -23,6 +23,7 @@ import numpy as np
 from ergosim.errors import ConfigError
 from ergosim.human.anthropometry import SEGMENT_SCALES
 from ergosim.overrides import finite_float
+from ergosim.quat import from_rpy, to_mat
 from ergosim.robot.ssm import SSMParams
 from ergosim.scenes.cellspec import (
     ACTION_KINDS,
@@ -489,11 +490,7 @@ def _check_part_pose(spec: CellSpec, p: Part, surfaces, where: str) -> None:
 
 def _lowest(p: Part) -> float:
     """Depth [m] of the part's lowest point below its frame origin at its pose."""
-    from ergosim.scenes.cellspec import rpy_quat  # noqa: PLC0415
-
-    q = rpy_quat(p.rpy or (0.0, 0.0, p.yaw))
-    w, x, y, z = q
-    row = np.array([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)])  # R[2, :]
+    row = to_mat(from_rpy(p.rpy or (0.0, 0.0, p.yaw), degrees=True))[2]
     return float(np.abs(row) @ np.array(p.half_extents)) if p.shape != "socket_block" else p.rest_height()
 
 

@@ -12,6 +12,7 @@ import logging
 import mujoco
 import numpy as np
 
+from ergosim import quat
 from ergosim.errors import InfeasiblePlanError
 from ergosim.scenes.build import weld_name
 from ergosim.twin.allocator import Allocator, Decision, DecisionPoint
@@ -99,11 +100,9 @@ class Session:
         tgt_p, tgt_q = cell.site_pose(geom.target)
         if body != geom.part:  # the whole assembly, held by one of its profiles: keep the profile's offset
             rel_p, rel_q = relative_pose(*cell.body_pose(geom.part), *cell.body_pose(body))
-            r = np.empty(9)
-            mujoco.mju_quat2Mat(r, tgt_q)
             q = np.empty(4)
             mujoco.mju_mulQuat(q, tgt_q, rel_q)
-            tgt_p, tgt_q = tgt_p + r.reshape(3, 3) @ rel_p, q
+            tgt_p, tgt_q = tgt_p + quat.to_mat(tgt_q) @ rel_p, q
         pos1, quat1 = relative_pose(hand_p, hand_q, tgt_p, tgt_q)
         eq = cell.model.equality(weld_name(self.hand, body)).id
         return InHandTurn(cell.model, eq, pos1, quat1, start, end)
@@ -374,7 +373,7 @@ class Session:
         log.debug("subject %d, %s: %s", self.subject_index, self.mode, msg)
         self.failures.append(Failure(t, self.subject_index, self.mode, rep, "", "", "abandoned", msg))
         self.outcomes.append(RepetitionOutcome(self.subject_index, self.mode, rep, "abandoned", why))
-        done_actions = {alloc._action_of[o] for o in done}
+        done_actions = {alloc.action_of(o) for o in done}
         cut = alloc.base_pruned | pruned
         for action in alloc.graph.actions:
             agents = alloc.allowed[action]

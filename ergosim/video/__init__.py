@@ -11,7 +11,7 @@ overlay drawing (:mod:`~ergosim.video.overlay`) and the encoder (:mod:`~ergosim.
 """
 
 from ergosim.video.encode import Mp4Writer, gif_from_mp4, read_mp4
-from ergosim.video.frames import PoseRenderer, RenderQuality, open_renderer, quat_to_mat
+from ergosim.video.frames import PoseRenderer, RenderQuality, open_renderer
 from ergosim.video.overlay import Overlay
 from ergosim.video.poses import PoseTrack
 from ergosim.video.run_video import (
@@ -43,7 +43,6 @@ __all__ = [
     "open_renderer",
     "parse_reps",
     "parse_size",
-    "quat_to_mat",
     "read_mp4",
     "write_run_video",
     "render_still",
