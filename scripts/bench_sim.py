@@ -21,7 +21,7 @@ from ergosim.cli import headless_gl
 
 headless_gl()  # offscreen rendering for --video, before MuJoCo is imported
 
-from ergosim.twin.benchmark import bench_full, bench_sim, bench_video  # noqa: E402
+from ergosim.experiment.benchmark import bench_full, bench_sim, bench_video  # noqa: E402
 
 
 def main() -> None:

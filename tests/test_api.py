@@ -31,7 +31,8 @@ def test_every_public_name_exists():
 def test_load_by_name_or_path_with_overrides(tmp_path):
     sc = api.load("multi-subject", {"scene.l_xy": "0.20,0.82", "task.agents.robot.cost": 3.0},
                   subjects=2, repetitions=3, modes=["hrc"], takt=40)
-    assert (sc.protocol.subjects, sc.protocol.repetitions, sc.protocol.modes, sc.protocol.takt) == \
+    cfg = sc.protocol
+    assert (cfg.population.subjects, cfg.pacing.repetitions, cfg.modes, cfg.pacing.takt) == \
         (2, 3, ("hrc",), 40.0)
     assert sc.cell().part("L").xy == (0.20, 0.82)
     assert sc.task().agents[1].cost == 3.0

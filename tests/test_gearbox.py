@@ -12,10 +12,10 @@ import numpy as np
 import pytest
 
 from ergosim.cli import main
+from ergosim.experiment.scenario import load_scenario
+from ergosim.experiment.scenario_check import PANDA_MAX_OPENING
 from ergosim.posture import KWEAR_JOINTS
 from ergosim.scenes import build_scene
-from ergosim.twin.scenario_check import PANDA_MAX_OPENING
-from ergosim.twin.scenariofile import load_scenario
 from ergosim.viz import RecordingReader
 
 

@@ -13,9 +13,9 @@ import ergosim.gym
 from ergosim import api
 from ergosim.cli import main
 from ergosim.errors import ConfigError
+from ergosim.experiment.csv_files import write_allocations
+from ergosim.experiment.runner import run_subject
 from ergosim.gym import ENV_ID, AllocationEnv, evaluate, mode_policy, random_policy
-from ergosim.twin.report import write_allocations
-from ergosim.twin.runner import run_subject
 
 pytestmark = pytest.mark.filterwarnings("ignore::UserWarning:gymnasium")
 

@@ -21,9 +21,9 @@ import pytest
 
 from ergosim.cli import main
 from ergosim.errors import ConfigError, InfeasiblePlanError, TaskFileError
+from ergosim.experiment.run_folder import RunFolder
 from ergosim.planner import Agent, AndOrGraph, Operation, generate_task, limits, load_task
 from ergosim.planner.taskfile import parse_task
-from ergosim.twin.run_folder import RunFolder
 from ergosim.viz import recorder, sinks
 from ergosim.worker.bvh_parse import parse_bvh_text
 
@@ -136,9 +136,9 @@ FAR_ROBOT = ["--set", "scene.robot_base=0.94,-0.5,0.9", "--set", "scene.robots.r
 def test_failed_robot_attempts_do_not_count_as_robot_actions(tmp_path):
     """The same cell run from Python, past the CLI's pre-check: r-only sends the robot every action it may
     do, each attempt fails as unreachable in the physics, and the robot share stays 0."""
-    from ergosim.twin.scenario_run import run_scenario  # noqa: PLC0415
-    from ergosim.twin.scenariofile import load_scenario  # noqa: PLC0415
-    from ergosim.twin.summary_text import summary_text  # noqa: PLC0415
+    from ergosim.experiment.scenario import load_scenario  # noqa: PLC0415
+    from ergosim.experiment.scenario_run import run_scenario  # noqa: PLC0415
+    from ergosim.experiment.summary_text import summary_text  # noqa: PLC0415
 
     scenario = load_scenario("multi-subject", {"subjects": "1", "repetitions": "1", "modes": "r-only",
                                                "scene.robot_base": "0.94,-0.5,0.9",
@@ -312,7 +312,7 @@ def test_an_overflowing_sum_is_diagnosed_not_an_index_error():
     from ergosim.planner import bottom_up  # noqa: PLC0415
 
     with pytest.raises(InfeasiblePlanError, match="overflows to inf"):
-        bottom_up.solve(graph, np.array(graph._leaf), np.array([1e308, 1e308]))
+        bottom_up.solve(graph, np.array(graph.leaves), np.array([1e308, 1e308]))
 
 
 # -- 9. documented bounds on size, memory and time -----------------------------------------------------
@@ -374,12 +374,12 @@ def test_ee_speed_is_bounded_by_the_panda(capsys, tmp_path):
     code = main(["run", "kwear-validation", "--quiet", "--out", str(tmp_path / "n"),
                  "--set", "ee_speed=100"])
     _one_line_error(capsys, code, "ee_speed must be in (0, 1.7] m/s")
+    from ergosim.experiment.scenario import scenario_config  # noqa: PLC0415
     from ergosim.overrides import apply_overrides  # noqa: PLC0415
-    from ergosim.twin.scenariofile import scenario_config  # noqa: PLC0415
 
     # the bound itself is allowed; contact-critical motion may not outrun the transits (transit_speed)
     fast = apply_overrides(scenario_config("kwear-validation"), {"ee_speed": "1.7", "transit_speed": "1.7"})
-    assert (fast.ee_speed, fast.transit_speed) == (1.7, 1.7)
+    assert (fast.robot.ee_speed, fast.robot.transit_speed) == (1.7, 1.7)
 
 
 # -- 11. interruption ------------------------------------------------------------------------------------

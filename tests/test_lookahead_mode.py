@@ -4,6 +4,7 @@ paper's outputs untouched, and parallel decisions that look at time."""
 
 from __future__ import annotations
 
+import dataclasses
 import json
 
 import numpy as np
@@ -11,12 +12,13 @@ import pytest
 from own_product import CELL, SCENARIO, TASK, write_product
 
 from ergosim import api
+from ergosim.experiment.runner import run_subject, subject_session
 from ergosim.twin.lookahead_allocator import LookaheadAllocator, lookahead_settings
 from ergosim.twin.lookahead_team_allocator import team_state
-from ergosim.twin.runner import run_subject, subject_session
-from ergosim.twin.scenario import LOOKAHEAD_FIELDS
+from ergosim.twin.protocol import LookaheadConfig
 from ergosim.twin.team_allocator import Busy
 from ergosim.twin.team_board import TeamBoard
+from ergosim.viz.reason import reason_text
 
 PARTS = 'parts = ["fixture", "base", "pin", "screw", "tray", "away"]'
 
@@ -62,7 +64,10 @@ def test_a_run_decides_by_sequences_and_is_paired_with_the_papers_rule(multi, tm
     res = api.run(multi, seed=0, jobs=1, out=tmp_path / "out")
     run = res.subjects[0].runs["kwear-lookahead"]
     assert run.decisions
-    assert all("cheapest sequence" in d.reason and "exact" in d.reason for d in run.decisions)
+    words = [reason_text(d) for d in run.decisions]
+    assert all("cheapest sequence" in w and "exact" in w for w in words)
+    assert all(d.sequence is not None and d.sequence.exact and d.sequence.steps[0] == (d.action, d.agent)
+               for d in run.decisions)
     assert all(np.isfinite(d.through) for d in run.decisions)
     summary = json.loads((tmp_path / "out" / "summary.json").read_text())
     assert summary["wilcoxon"]["n"] == 1  # kwear-lookahead against hrc, subject by subject
@@ -70,6 +75,9 @@ def test_a_run_decides_by_sequences_and_is_paired_with_the_papers_rule(multi, tm
     again = run_subject(multi, 0, 0, ("kwear-lookahead",)).runs["kwear-lookahead"]
     assert [(a.action, a.agent, a.t_end) for a in again.allocations] == \
         [(a.action, a.agent, a.t_end) for a in run.allocations]
+
+
+LOOKAHEAD_FIELDS = tuple(f.name for f in dataclasses.fields(LookaheadConfig))
 
 
 def test_the_papers_outputs_do_not_record_the_lookahead_fields():

@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 from ergosim.cli import main
-from ergosim.posture import KWEAR_JOINTS
-from ergosim.twin.plots import (
+from ergosim.experiment.csv_files import SUBJECT_COLUMNS
+from ergosim.experiment.plots import (
     actions_figure,
     allocation_figure,
     modes_figure,
@@ -25,7 +25,7 @@ from ergosim.twin.plots import (
     read_ticks,
     timeline_figure,
 )
-from ergosim.twin.report import SUBJECT_COLUMNS
+from ergosim.posture import KWEAR_JOINTS
 
 
 @pytest.fixture(scope="module")

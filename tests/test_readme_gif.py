@@ -12,9 +12,9 @@ from pathlib import Path
 import pytest
 from PIL import Image
 
-from ergosim.twin.runner import run_subject
-from ergosim.twin.scenariofile import load_scenario
-from ergosim.video.clip import MAX_GIF_BYTES, _attempts, robot_repetition
+from ergosim.experiment.clip import MAX_GIF_BYTES, _attempts, robot_repetition
+from ergosim.experiment.runner import run_subject
+from ergosim.experiment.scenario import load_scenario
 
 ROOT = Path(__file__).resolve().parents[1]
 GIF = ROOT / "docs" / "img" / "hrc_repetition.gif"

@@ -13,12 +13,13 @@ import pytest
 
 from ergosim.cli import main
 from ergosim.ergonomics.kwear import predict
+from ergosim.experiment.csv_files import ALLOCATION_COLUMNS, FAILURE_COLUMNS
+from ergosim.experiment.kwear_state import read_state
+from ergosim.experiment.scenario import load_scenario, scenario_config
+from ergosim.experiment.summary import summarise
+from ergosim.experiment.summary_text import summary_text
 from ergosim.posture import HUMAN_JOINTS, KWEAR_JOINTS
-from ergosim.twin.kwear_state import read_state
 from ergosim.twin.records import Allocation, Failure, RepetitionOutcome, SubjectRun, TickLog
-from ergosim.twin.report import ALLOCATION_COLUMNS, FAILURE_COLUMNS, summarise
-from ergosim.twin.scenariofile import load_scenario, scenario_config
-from ergosim.twin.summary_text import summary_text
 from ergosim.viz import RecordingReader
 from ergosim.worker.stream import MocapStream
 from ergosim.worker.subjects import make_subjects
@@ -200,7 +201,7 @@ def test_noise_scale_multiplies_the_sensor_noise():
 
 
 def test_noise_scale_reaches_the_twin():
-    from ergosim.twin.runner import build_rig  # noqa: PLC0415
+    from ergosim.experiment.runner import build_rig  # noqa: PLC0415
 
     scenario = load_scenario("kwear-validation", {"noise_scale": "0.5"})
     rig = build_rig(scenario, make_subjects(1, 0)[0], np.random.default_rng(0))

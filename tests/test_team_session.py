@@ -12,10 +12,10 @@ import pytest
 
 from ergosim.cli import main
 from ergosim.errors import ConfigError
+from ergosim.experiment.scenario import load_scenario
 from ergosim.planner import bundled_task
 from ergosim.twin.allocator import Allocator
 from ergosim.twin.modes import Mode
-from ergosim.twin.scenariofile import load_scenario
 from ergosim.viz import RecordingReader
 from ergosim.viz.paths import ALLOCATION_LOG
 

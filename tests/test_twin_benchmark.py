@@ -1,4 +1,4 @@
-"""What scripts/bench_sim.py measures (ergosim.twin.benchmark), not how fast: no timed test."""
+"""What scripts/bench_sim.py measures (ergosim.experiment.benchmark), not how fast: no timed test."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from ergosim.twin.benchmark import bench_repetition
+from ergosim.experiment.benchmark import bench_repetition
 
 
 def test_one_repetition_is_timed_against_raw_stepping_of_the_same_simulated_time():

@@ -15,9 +15,9 @@ import numpy as np
 import pytest
 
 from ergosim.cli import main
+from ergosim.experiment.runner import run_subject
+from ergosim.experiment.scenario import load_scenario
 from ergosim.posture import KWEAR_JOINTS
-from ergosim.twin.runner import run_subject
-from ergosim.twin.scenariofile import load_scenario
 from ergosim.viz import RecordingReader
 
 
@@ -40,7 +40,7 @@ def test_hrc_completes_every_assembly_through_the_scene(hrc_run):
         assert order[0] == "a1" and order[-1] == "a5"
     # ticks run at the ergonomics rate and KWear stays in [0, 1)
     t = run.ticks.column("t")
-    assert np.allclose(np.diff(t), 1.0 / cfg.ergonomics_rate)
+    assert np.allclose(np.diff(t), 1.0 / cfg.sensing.ergonomics_rate)
     assert np.all((run.ticks.kwear >= 0) & (run.ticks.kwear < 1))
 
 
@@ -65,9 +65,9 @@ def test_human_costs_are_eq_10_11_of_the_predicted_kwear(hrc_run):
         for action, v_hat in d.v_hat.items():
             alpha = np.asarray(res.alphas[action])
             np.testing.assert_allclose(v_hat, 1 - alpha * (1 - d.v_now), rtol=0, atol=1e-12)  # eq. 9
-            expected = float(np.sum(v_hat + cfg.gamma * (v_hat >= cfg.v_th)))  # eq. 10-11
+            expected = float(np.sum(v_hat + cfg.cost.gamma * (v_hat >= cfg.cost.v_th)))  # eq. 10-11
             assert d.costs[(action, "human")] == pytest.approx(expected, abs=1e-12)
-            assert d.costs[(action, "robot")] == cfg.robot_cost
+            assert d.costs[(action, "robot")] == cfg.cost.robot_cost
 
 
 def test_h_only_never_dispatches_to_the_robot(hrc_run):
@@ -77,15 +77,15 @@ def test_h_only_never_dispatches_to_the_robot(hrc_run):
     assert {a.agent for a in run.allocations} == {"human"}
     # the worker waits for the takt before the next repetition (paper §7.2)
     starts = [min(a.t_start for a in run.allocations if a.repetition == r) for r in (1, 2)]
-    assert starts[1] == pytest.approx(cfg.takt, abs=1.0 / cfg.mocap_rate)
+    assert starts[1] == pytest.approx(cfg.pacing.takt, abs=1.0 / cfg.sensing.mocap_rate)
 
 
 def test_every_mode_covers_the_production_schedule(hrc_run):
     """A worker who finishes early rests to the end of repetitions × takt, so load proxies compare."""
     cfg, res = hrc_run
     for run in res.runs.values():
-        assert run.horizon == pytest.approx(2 * cfg.takt)
-        assert run.ticks.column("t")[-1] >= run.horizon - 1.0 / cfg.ergonomics_rate
+        assert run.horizon == pytest.approx(2 * cfg.pacing.takt)
+        assert run.ticks.column("t")[-1] >= run.horizon - 1.0 / cfg.sensing.ergonomics_rate
         assert run.kwear_integral <= run.kwear_integral_run
 
 

@@ -10,6 +10,7 @@ import signal
 import subprocess
 import sys
 import time
+import types
 from pathlib import Path
 
 import matplotlib.image
@@ -19,10 +20,11 @@ import pytest
 
 from ergosim.cli import main
 from ergosim.errors import ConfigError
+from ergosim.experiment import film
+from ergosim.experiment.runner import run_subject, scenario_subject, subject_cell, subject_session
+from ergosim.experiment.scenario import load_scenario
 from ergosim.posture import KWEAR_JOINTS
 from ergosim.scenes import build_cell
-from ergosim.twin.runner import run_subject, subject_cell
-from ergosim.twin.scenariofile import load_scenario
 from ergosim.video import (
     FrameInfo,
     Mp4Writer,
@@ -38,6 +40,7 @@ from ergosim.video import (
     write_run_video,
 )
 from ergosim.video.timeline import Event
+from ergosim.viz.reason import reason_text
 from ergosim.viz.styles import JOINT_COLORS
 from ergosim.worker.subjects import make_subjects
 
@@ -47,7 +50,27 @@ def recorded():
     """One real kwear-validation repetition (hrc) with the body poses kept, and the cell it ran in."""
     sc = load_scenario("kwear-validation", {"repetitions": "1", "modes": "hrc"})
     res = run_subject(sc, 0, 0, ("hrc",), record_mode="hrc")
-    return sc, res.runs["hrc"], subject_cell(sc, make_subjects(1, 0)[0])
+    return sc, res.runs["hrc"], subject_cell(sc, scenario_subject(sc, 0, 0))
+
+
+def test_the_filmed_subject_is_the_simulated_one(recorded, monkeypatch, tmp_path):
+    """A video shows the body the run simulated. kwear-validation's population is all women
+    (female_fraction = 1) at its own pace; a subject drawn with the population defaults is someone else."""
+    sc, run, _ = recorded
+    filmed = {}
+
+    def capture(cell, run, request, **_kw):
+        filmed["cell"] = cell
+
+    monkeypatch.setattr(film, "write_run_video", capture)
+    result = types.SimpleNamespace(subject=0, name="S01", runs={"hrc": run})
+    film.film_subject(sc, 0, result, VideoRequest(tmp_path / "run.mp4", mode="hrc"))
+    simulated = subject_session(sc, 0, 0, "h-only", calibrate=False).cell.model
+    model = filmed["cell"].model
+    assert np.array_equal(model.body_pos, simulated.body_pos) and np.array_equal(model.geom_size,
+                                                                                 simulated.geom_size)
+    default = subject_cell(sc, make_subjects(1, 0)[0]).model  # the body the video showed before the fix
+    assert not np.array_equal(default.body_pos, simulated.body_pos)
 
 
 def test_pose_renderer_draws_what_mujoco_draws_from_the_live_state():
@@ -99,7 +122,7 @@ def test_timeline_draws_the_runs_own_records(recorded):
     assert (info.action, info.agent, info.repetition) == (a.action, a.agent, 1)
     assert info.action_text == f"{cell.actions[a.action].kind} {cell.actions[a.action].part}"
     decision = next(d for d in run.decisions if d.time <= info.time and d.action == a.action)
-    assert info.events == (Event(decision.time, "decision", decision.reason, decision.agent),)
+    assert info.events == (Event(decision.time, "decision", reason_text(decision), decision.agent),)
     t, kw = run.ticks.column("t"), run.ticks.kwear
     k = len(t) // 2
     assert np.allclose(tl.at(float(t[k]), hold=0).kwear, kw[k])
@@ -260,7 +283,8 @@ def test_sigterm_while_filming_keeps_the_results_and_leaves_no_partial_video(tmp
     assert not [p for p in tmp_path.iterdir() if p.name not in ("out",)]  # no run.mp4, no .tmp.mp4
 
 
-@pytest.mark.parametrize("package", ["ergosim.video", "ergosim.twin.plots"])
+@pytest.mark.parametrize("package", ["ergosim.video", "ergosim.experiment.plots", "ergosim.experiment",
+                                     "ergosim.twin"])
 def test_every_public_name_exists(package):
     module = importlib.import_module(package)
     assert module.__all__

@@ -12,18 +12,17 @@ from ergosim.cli import headless_gl
 
 headless_gl()
 
-from ergosim.twin.runner import run_subject, subject_cell  # noqa: E402
-from ergosim.twin.scenariofile import load_scenario  # noqa: E402
+from ergosim.experiment.runner import run_subject, scenario_subject, subject_cell  # noqa: E402
+from ergosim.experiment.scenario import load_scenario  # noqa: E402
 from ergosim.video import VideoRequest, write_run_video  # noqa: E402
 from ergosim.video import frames as frames_module  # noqa: E402
-from ergosim.worker.subjects import make_subjects  # noqa: E402
 
 
 @pytest.fixture(scope="module")
 def recorded():
     sc = load_scenario("kwear-validation", {"repetitions": "1", "modes": "hrc"})
     res = run_subject(sc, 0, 0, ("hrc",), record_mode="hrc")
-    return res.runs["hrc"], subject_cell(sc, make_subjects(1, 0)[0])
+    return res.runs["hrc"], subject_cell(sc, scenario_subject(sc, 0, 0))
 
 
 @pytest.mark.slow
@@ -51,14 +50,13 @@ def test_forked_workers_write_the_same_mp4_as_one_process(tmp_path):
         from pathlib import Path
         from ergosim.cli import headless_gl
         headless_gl()
-        from ergosim.twin.runner import run_subject, subject_cell
-        from ergosim.twin.scenariofile import load_scenario
+        from ergosim.experiment.runner import run_subject, scenario_subject, subject_cell
+        from ergosim.experiment.scenario import load_scenario
         from ergosim.video import frames
         from ergosim.video.benchmark import compare_workers
-        from ergosim.worker.subjects import make_subjects
         sc = load_scenario("kwear-validation", {{"repetitions": "1", "modes": "hrc"}})
         run = run_subject(sc, 0, 0, ("hrc",), record_mode="hrc").runs["hrc"]
-        cell = subject_cell(sc, make_subjects(1, 0)[0])
+        cell = subject_cell(sc, scenario_subject(sc, 0, 0))
         a = next(x for x in run.allocations if x.agent == "human")
         res = compare_workers(cell, run, Path({str(tmp_path)!r}), (a.t_start, a.t_start + 1.0), (320, 180),
                               1.0, 2)

@@ -13,10 +13,10 @@ import numpy as np
 import pytest
 from rerun.chunk import RrdReader
 
+from ergosim.experiment.runner import subject_cell
+from ergosim.experiment.scenario import load_scenario, scenario_names
 from ergosim.posture import ANGLE_NAMES, KWEAR_JOINTS
 from ergosim.scenes import build_cell
-from ergosim.twin.runner import subject_cell
-from ergosim.twin.scenariofile import load_scenario, scenario_names
 from ergosim.viz import RecordingReader, default_body_groups, open_recording
 from ergosim.viz.blueprint import ARM_ANGLES, ARM_RANGE, KWEAR_RANGE, RULA_RANGE, TRUNK_RANGE
 from ergosim.viz.eye import _FOV_DEG, _visible_bounds, frame_scene

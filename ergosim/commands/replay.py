@@ -192,7 +192,7 @@ def _record(path: str, traces: dict, name: str) -> None:
 
 def run(args) -> int:
     from ergosim.atomic import write_json  # noqa: PLC0415
-    from ergosim.twin.plots import kwear_timeline  # noqa: PLC0415
+    from ergosim.experiment.plots import kwear_timeline  # noqa: PLC0415
     from ergosim.worker import replay_ticks  # noqa: PLC0415
 
     if not (math.isfinite(args.rate) and args.rate > 0):

@@ -38,8 +38,8 @@ from gymnasium import spaces
 
 from ergosim import api
 from ergosim.errors import ConfigError, InfeasiblePlanError
+from ergosim.experiment.runner import calibrate_subject, subject_session
 from ergosim.posture import KWEAR_JOINTS
-from ergosim.twin.runner import calibrate_subject, subject_session
 
 __all__ = ["AllocationEnv", "TAKT_PENALTY"]
 
@@ -49,7 +49,7 @@ TAKT_PENALTY = float(len(KWEAR_JOINTS))
 
 class AllocationEnv(gym.Env):
     """One subject's run of ``scenario`` (a bundled name, a scenario file, or a loaded
-    :class:`~ergosim.twin.scenariofile.Scenario`) with ``overrides`` (``--set`` keys) and ``repetitions``
+    :class:`~ergosim.experiment.scenario.Scenario`) with ``overrides`` (``--set`` keys) and ``repetitions``
     (default the scenario's). ``subject``: the subject of the seed's population
     (``reset(options={"subject": i})`` changes it). ``mode``: the mode whose risk index prices ``v_hat`` and
     whose allocator :meth:`mode_action` consults; it also labels the records. ``reset(seed=s)`` draws the
@@ -62,16 +62,16 @@ class AllocationEnv(gym.Env):
                  takt_penalty: float = TAKT_PENALTY, invalid_penalty: float = 1.0) -> None:
         self.scenario = scenario if hasattr(scenario, "protocol") else api.load(scenario, overrides)
         cfg = self.scenario.protocol
-        if cfg.execution != "sequential":
+        if cfg.team.execution != "sequential":
             raise ConfigError("Allocation-v0 steps one decision at a time: execution must be sequential, got "
-                              f"{cfg.execution!r}", where="AllocationEnv")
+                              f"{cfg.team.execution!r}", where="AllocationEnv")
         if not (math.isfinite(takt_penalty) and takt_penalty >= 0 and math.isfinite(invalid_penalty)
                 and invalid_penalty >= 0):
             raise ConfigError("takt_penalty and invalid_penalty must be finite and >= 0",
                               where="AllocationEnv")
         self.mode = mode
         self.subject = int(subject)
-        self.repetitions = int(repetitions or cfg.repetitions)
+        self.repetitions = int(repetitions or cfg.pacing.repetitions)
         if self.repetitions < 1:
             raise ConfigError(f"repetitions must be >= 1, got {self.repetitions}", where="AllocationEnv")
         self.takt_penalty = float(takt_penalty)
@@ -145,7 +145,7 @@ class AllocationEnv(gym.Env):
         decision = session.allocator.chosen(action, agent, point.v_now, point.done, point.pruned, point.time,
                                             point.repetition)
         start_row, rows_before = plant.log.n, len(session.allocations)
-        deadline = self._rep_start[point.repetition] + session.cfg.takt
+        deadline = self._rep_start[point.repetition] + session.cfg.pacing.takt
         try:
             point = self._steps.send(decision)
         except StopIteration as stop:
@@ -210,7 +210,7 @@ class AllocationEnv(gym.Env):
             "v_hat": np.clip(v_hat, 0.0, 1.0),
             "done": done,
             "available": mask.reshape(n_a, n_g).max(axis=1).astype(np.int8),
-            "takt_time": np.array([elapsed / self.session.cfg.takt], dtype=np.float32),
+            "takt_time": np.array([elapsed / self.session.cfg.pacing.takt], dtype=np.float32),
             "action_mask": mask,
         }
 

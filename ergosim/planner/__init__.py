@@ -10,20 +10,25 @@ re-plans from any configuration with the ``fast`` (bottom-up) or ``paper`` (Algo
 
 from ergosim.planner.agents import Agent, Operation
 from ergosim.planner.bundled import BUNDLED_TASKS, bundled_task, bundled_task_source, bundled_task_text
+from ergosim.planner.compiled import CompiledGraph
 from ergosim.planner.generators import generate_task
 from ergosim.planner.graph import PLANNERS, AndOrGraph
 from ergosim.planner.liaisons import Liaison
 from ergosim.planner.lookahead import LookaheadPlan, SearchLimits, lookahead_plan
 from ergosim.planner.lookahead_team import TeamLookahead, TeamState, lookahead_team
+from ergosim.planner.op_table import OperationTable
 from ergosim.planner.outside import outside_costs, through_costs
 from ergosim.planner.paper_search import SearchBudgetExceeded, SearchMemoryExceeded
-from ergosim.planner.plan import Plan, PlanStep, replan_until_done
+from ergosim.planner.plan import Plan, PlanStep
+from ergosim.planner.replan import replan_until_done
 from ergosim.planner.taskfile import load_task, parse_task, task_from_dict
 from ergosim.planner.team import TeamAssignment, TeamStep, team_assign
 from ergosim.planner.wear_chain import SequencePrice, WearModel, price_sequence
 
 __all__ = [
     "AndOrGraph",
+    "CompiledGraph",
+    "OperationTable",
     "Agent",
     "Operation",
     "Liaison",

@@ -142,7 +142,7 @@ def _time_paper(
     graph: AndOrGraph, rng: np.random.Generator, cap_s: float, max_states: int | None
 ) -> tuple[float | None, str]:
     """(median paper replan [ms] or None, its note): past the cap or the memory budget is a result."""
-    paper_search._edges(graph)  # the per-graph edge lists are build-time work, not replan work
+    _ = graph.node_edges  # the per-graph edge lists are build-time work, not replan work
     try:
         paper_ms = time_replans(
             graph, "paper", rng, min_repeats=3, min_total_s=1.0, cap_s=cap_s, max_states=max_states

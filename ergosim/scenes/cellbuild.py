@@ -10,10 +10,11 @@ from __future__ import annotations
 
 import mujoco
 
+from ergosim.quat import from_axis_to, from_rpy, from_yaw_deg
 from ergosim.robot.handle import robot_prefix
 from ergosim.scenes import build
 from ergosim.scenes.action_kinds import action_kind
-from ergosim.scenes.cellspec import Box, CellSpec, Shelf, Table, quat_axis_to, rpy_quat, yaw_quat
+from ergosim.scenes.cellspec import Box, CellSpec, Shelf, Table
 from ergosim.scenes.clearance import check_clearance
 from ergosim.scenes.shapes import add_part_body
 from ergosim.scenes.workcell import ActionGeometry, Workcell
@@ -68,8 +69,10 @@ def _furniture(mspec: mujoco.MjSpec, spec: CellSpec) -> None:
 def _part_pose(spec: CellSpec, part) -> tuple[list[float], list[float]]:
     if part.xy is not None:
         surface = spec.surfaces()[part.on] if part.on not in (None, "auto") else spec.surface_under(part.xy)
-        return [part.xy[0], part.xy[1], surface.height + part.rest_height()], yaw_quat(part.yaw)
-    return list(part.pos), (rpy_quat(part.rpy) if part.rpy is not None else yaw_quat(part.yaw))
+        return [part.xy[0], part.xy[1], surface.height + part.rest_height()], from_yaw_deg(part.yaw)
+    if part.rpy is not None:
+        return list(part.pos), from_rpy(part.rpy, degrees=True)
+    return list(part.pos), from_yaw_deg(part.yaw)
 
 
 def build_cell(spec: CellSpec) -> Workcell:
@@ -99,14 +102,14 @@ def build_cell(spec: CellSpec) -> Workcell:
         part = spec.part(a.part)
         centre = [slot.at[i] + part.insert_half_length * slot.axis[i] for i in range(3)]
         bodies[slot.host].add_site(name=seat_site(slot.host, a.part), pos=centre,
-                                   quat=quat_axis_to(part.insert_axis, slot.axis).tolist(), group=4)
+                                   quat=from_axis_to(part.insert_axis, slot.axis).tolist(), group=4)
         seats.append((slot.host, a.part))
     for t in spec.targets:
         if t.kind == "place":
             pos = [*t.xy, surfaces[t.on].height + spec.part(t.part).rest_height()]
         else:
             pos = list(t.pos)
-        m.worldbody.add_site(name=t.name, pos=pos, quat=yaw_quat(t.yaw), group=4)
+        m.worldbody.add_site(name=t.name, pos=pos, quat=from_yaw_deg(t.yaw), group=4)
     # insertion is a weld within tolerance (Workcell.seat), not a contact simulation of the fit
     for host, part in seats:
         m.add_exclude(bodyname1=host, bodyname2=part)

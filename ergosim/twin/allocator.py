@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Mapping
+from typing import NamedTuple
 
 import numpy as np
 
@@ -19,17 +20,50 @@ from ergosim.planner import AndOrGraph
 from ergosim.twin.durations import expected_durations
 from ergosim.twin.modes import Mode
 
-__all__ = ["Decision", "Allocator"]
+__all__ = ["Basis", "Decision", "DecisionPoint", "SequenceChoice", "Allocator"]
+
+
+@dataclasses.dataclass(frozen=True)
+class Basis:
+    """What a decision's reason is judged by, the same for every decision of an allocator: the ``mode``, its
+    risk index by name (None: costs from the task file), the index's thresholds ``v_th`` (a scalar or (p,);
+    None without an index), its display ``scale`` (:attr:`~ergosim.ergonomics.risk_index.RiskIndex.scale`),
+    the ``human`` agent and the ``robots``. :func:`ergosim.viz.reason.reason_text` words it."""
+
+    mode: str
+    index: str | None
+    v_th: float | tuple[float, ...] | None
+    scale: float
+    human: str
+    robots: tuple[str, ...]
+
+
+@dataclasses.dataclass(frozen=True)
+class SequenceChoice:
+    """Why a look-ahead decision (``kwear-lookahead``) chose as it did: the ``steps`` ((action, agent) in
+    order) of the cheapest sequence it starts, that sequence's ``cost``, ``other``, the cheapest sequence that
+    gives the action to another agent (NaN if not computed), whether the search was ``exact``, and the beam's
+    ``gap`` from the optimum otherwise."""
+
+    steps: tuple[tuple[str, str], ...]
+    cost: float
+    other: float
+    exact: bool
+    gap: float
 
 
 @dataclasses.dataclass(frozen=True)
 class Decision:
-    """What the allocator saw and chose at one decision point (sim time [s]).
+    """What the allocator saw and chose at one decision point (sim time [s]), and why, as data.
 
     ``v_now`` (5,) KWear; ``v_hat``: action -> predicted risk (p,) of the index in use; ``costs``: the
-    (action, agent) costs the planner got; ``had_choice``: more than one agent could take ``action``.
-    Parallel execution adds ``through``, the cost of the cheapest plan through the chosen hyper-arc, and
-    ``early``: the agent started a handover before the operation's other children exist.
+    (action, agent) costs the planner got; ``had_choice``: more than one agent could take ``action``;
+    ``basis``: what the choice is judged by. Parallel execution adds ``through``, the cost of the cheapest
+    plan through the chosen hyper-arc, ``excess``, how much that exceeds the optimal plan (0: the agent
+    follows it), and ``early`` with ``part``: the agent fetches ``part`` for a handover before the
+    operation's other children exist. A look-ahead decision adds ``sequence``
+    (:class:`SequenceChoice`). The sentence the recording and the video show is
+    :func:`ergosim.viz.reason.reason_text`.
     """
 
     time: float
@@ -41,12 +75,27 @@ class Decision:
     agent: str
     operation: str
     had_choice: bool
-    reason: str
+    basis: Basis
     through: float = float("nan")
+    excess: float = 0.0
     early: bool = False
+    part: str = ""
+    sequence: SequenceChoice | None = None
 
     def cost_of(self, agent: str) -> float:
         return float(self.costs.get((self.action, agent), np.nan))
+
+
+class DecisionPoint(NamedTuple):
+    """Where the loop asks for the next (action, agent): the arguments of
+    :meth:`Allocator.decide` (KWear (5,), the operations done, the pruned and declined
+    (action, agent) pairs, sim time [s], repetition)."""
+
+    v_now: np.ndarray
+    done: list[str]
+    pruned: set[tuple[str, str]]
+    time: float
+    repetition: int
 
 
 class Allocator:
@@ -78,12 +127,14 @@ class Allocator:
         """Weight of the time term [cost per s]: w_time × expected duration is added to every hyper-arc."""
         self.durations = dict(durations or {})
         """(action, agent) -> expected duration [s] (ergosim.twin.durations)."""
+        self.basis = Basis(mode.name, mode.risk_index, None if cost is None else cost.v_th,
+                           1.0 if index is None else index.scale, self.human, self.robots)
 
     def prepare(self, *, cfg, cell, robots, human_seconds: Mapping[str, float]) -> None:
         """Before the first decision: the time term's expected durations (protocol ``w_time`` > 0) from the
         cell, its robots (name -> RobotTrack) and the worker's calibrated ``human_seconds``."""
-        if cfg.w_time > 0:
-            self.w_time = cfg.w_time
+        if cfg.team.w_time > 0:
+            self.w_time = cfg.team.w_time
             self.durations = expected_durations(cell, robots, self.allowed, self.human, human_seconds)
 
     def observe(self, action: str, agent: str, seconds: float) -> None:
@@ -128,8 +179,7 @@ class Allocator:
         return out
 
     def chosen(self, action: str, agent: str, v_now: np.ndarray, done: list[str],
-               pruned: set[tuple[str, str]], time: float, repetition: int,
-               reason: str = "") -> Decision | None:
+               pruned: set[tuple[str, str]], time: float, repetition: int) -> Decision | None:
         """The :class:`Decision` for an (action, agent) chosen by someone else (a Gym policy), with this
         mode's prices for the record; None if the pair cannot start now (:meth:`ready`)."""
         operation = self.ready(done, pruned).get((action, agent))
@@ -141,7 +191,7 @@ class Allocator:
         agents = self.allowed[action] - {a for (act, a) in cut if act == action}
         return Decision(time=time, repetition=repetition, v_now=np.array(v_now), v_hat=v_hat, costs=costs,
                         action=action, agent=agent, operation=operation, had_choice=len(agents) > 1,
-                        reason=reason or f"{action} → {agent}: chosen by the policy")
+                        basis=self.basis)
 
     def decide(self, v_now: np.ndarray, done: list[str], pruned: set[tuple[str, str]], time: float,
                repetition: int) -> Decision | None:
@@ -159,6 +209,5 @@ class Allocator:
         return Decision(
             time=time, repetition=repetition, v_now=np.array(v_now), v_hat=v_hat, costs=costs,
             action=step.action, agent=step.agent, operation=step.operation, had_choice=len(agents) > 1,
-            reason=self.mode.reason(step.action, step.agent, v_hat, costs, self.index, self.cost, self.human,
-                                    self.robots),
+            basis=self.basis,
         )

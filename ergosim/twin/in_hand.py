@@ -15,41 +15,32 @@ import math
 import mujoco
 import numpy as np
 
+from ergosim import quat
+from ergosim.twin.loop import Plant, PlantHook
 from ergosim.worker.minimum_jerk import min_jerk
 
-__all__ = ["InHandTurn", "relative_pose", "slerp"]
+__all__ = ["InHandTurn", "CarryHook", "relative_pose", "slerp"]
 
 
 def relative_pose(p1: np.ndarray, q1: np.ndarray, p2: np.ndarray,
                   q2: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Pose of frame 2 in frame 1 (positions (3,) [m], quaternions (4,) wxyz)."""
-    r1 = np.empty(9)
-    mujoco.mju_quat2Mat(r1, q1)
-    conj = q1 * np.array([1.0, -1.0, -1.0, -1.0])
     q = np.empty(4)
-    mujoco.mju_mulQuat(q, conj, q2)
-    return r1.reshape(3, 3).T @ (p2 - p1), q
-
-
-def _quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Hamilton products of (..., 4) wxyz quaternions."""
-    aw, ax, ay, az = np.moveaxis(a, -1, 0)
-    bw, bx, by, bz = np.moveaxis(b, -1, 0)
-    return np.stack([aw * bw - ax * bx - ay * by - az * bz, aw * bx + ax * bw + ay * bz - az * by,
-                     aw * by - ax * bz + ay * bw + az * bx, aw * bz + ax * by - ay * bx + az * bw], axis=-1)
+    mujoco.mju_mulQuat(q, quat.conj(q1), q2)
+    return quat.to_mat(q1).T @ (p2 - p1), q
 
 
 def slerp(qa: np.ndarray, qb: np.ndarray, s: np.ndarray) -> np.ndarray:
     """(n, 4) unit quaternions from ``qa`` (s = 0) to ``qb`` (s = 1) along the shorter arc, for (n,) ``s``."""
     if np.dot(qa, qb) < 0.0:
         qb = -qb
-    dq = _quat_mul(qa * np.array([1.0, -1.0, -1.0, -1.0]), qb)
+    dq = quat.mul(quat.conj(qa), qb)
     dq /= np.linalg.norm(dq)
     half = math.atan2(float(np.linalg.norm(dq[1:])), float(dq[0]))  # half the relative rotation angle
     axis = dq[1:] / math.sin(half) if half > 1e-12 else np.zeros(3)
     h = np.asarray(s, dtype=float)[:, None] * half
     step = np.concatenate([np.cos(h), np.sin(h) * axis], axis=1)
-    return _quat_mul(qa, step)
+    return quat.mul(qa, step)
 
 
 class InHandTurn:
@@ -81,3 +72,31 @@ class InHandTurn:
         i = frame - self.start
         data[3:6] = self._pos[i]
         data[6:10] = self._quat[i]
+
+
+class CarryHook(PlantHook):
+    """The worker's hand on a part during one motion. The motion is kinematic and not collision-planned, like
+    the human body itself: what the worker carries (the grasped part, or the whole assembly held by
+    ``body``) passes through the furniture and the robot from the grasp until the release, then collides
+    again and comes to rest on its own (the scene then decides completion). ``turn`` moves the grasp weld
+    so the part ends on its target (:class:`InHandTurn`)."""
+
+    def __init__(self, cell, hand: str, geom, body: str, turn: InHandTurn) -> None:
+        self.cell, self.hand, self.geom, self.body, self.turn = cell, hand, geom, body, turn
+        self.carried = cell.collision_geoms(body)
+
+    def on_grasp(self, plant: Plant) -> None:
+        self.cell.grasp(self.hand, self.body)  # at a handover the robot sees this and lets go
+        self.cell.pass_through(self.carried, True)
+
+    def on_release(self, plant: Plant) -> None:
+        cell, geom = self.cell, self.geom
+        cell.release(self.hand, self.body)
+        cell.pass_through(self.carried, False)
+        if geom.seats:
+            cell.seat(geom.part)
+        elif geom.received:
+            cell.receive(geom.part, cell.site_pose(geom.target)[0])
+
+    def before_physics(self, plant: Plant, frame: int) -> None:
+        self.turn(frame)

@@ -27,9 +27,8 @@ import numpy as np
 from ergosim.errors import InfeasiblePlanError
 from ergosim.planner.lookahead import LookaheadPlan, SearchLimits, lookahead_plan
 from ergosim.planner.wear_chain import WearModel
-from ergosim.twin.allocator import Allocator, Decision
+from ergosim.twin.allocator import Allocator, Decision, SequenceChoice
 from ergosim.twin.durations import expected_durations
-from ergosim.viz.reason import lookahead_reason
 
 __all__ = ["LookaheadAllocator", "lookahead_settings"]
 
@@ -39,12 +38,13 @@ def lookahead_settings(cfg) -> tuple[float, float, SearchLimits]:
     of protocol ``cfg``: ``takt_weight`` (None: Γ/takt, assumed: a whole takt of overrun costs as much as one
     joint past V_th, eq. 11), ``time_weight`` (None: 0 in sequential execution, the takt weight in parallel),
     ``lookahead_exact`` and ``lookahead_beam``."""
-    takt_weight = cfg.gamma / cfg.takt if cfg.takt_weight is None else cfg.takt_weight
-    time_weight = cfg.time_weight
+    look = cfg.lookahead
+    takt_weight = cfg.cost.gamma / cfg.pacing.takt if look.takt_weight is None else look.takt_weight
+    time_weight = look.time_weight
     if time_weight is None:
-        time_weight = takt_weight if cfg.execution == "parallel" else 0.0
-    return float(takt_weight), float(time_weight), SearchLimits(exact_sequences=cfg.lookahead_exact,
-                                                               beam_width=cfg.lookahead_beam)
+        time_weight = takt_weight if cfg.team.execution == "parallel" else 0.0
+    return float(takt_weight), float(time_weight), SearchLimits(exact_sequences=look.lookahead_exact,
+                                                               beam_width=look.lookahead_beam)
 
 
 class LookaheadAllocator(Allocator):
@@ -72,7 +72,7 @@ class LookaheadAllocator(Allocator):
         self.unreachable = {(a, r) for a, agents in self.allowed.items() for r in agents
                             if r in self.robots and (a, r) not in self.durations}
         self.takt_weight, self.time_weight, self.limits = lookahead_settings(cfg)
-        self.takt, self.next_weight = cfg.takt, cfg.lookahead_next
+        self.takt, self.next_weight = cfg.pacing.takt, cfg.lookahead.lookahead_next
         self._observed: dict[tuple[str, str], list[float]] = {}
         self._build()
 
@@ -135,7 +135,7 @@ class LookaheadAllocator(Allocator):
         return Decision(
             time=time, repetition=repetition, v_now=np.array(v_now), v_hat=v_hat, costs=costs,
             action=step.action, agent=step.agent, operation=step.operation, had_choice=len(agents) > 1,
-            reason=lookahead_reason(step.action, step.agent, [(s.action, s.agent) for s in plan.steps],
-                                    plan.cost, other, exact=plan.exact, gap=plan.gap),
-            through=plan.cost,
+            basis=self.basis, through=plan.cost,
+            sequence=SequenceChoice(tuple((s.action, s.agent) for s in plan.steps), plan.cost, other,
+                                    plan.exact, plan.gap),
         )

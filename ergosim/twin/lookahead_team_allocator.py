@@ -19,11 +19,10 @@ import numpy as np
 
 from ergosim.planner.lookahead_team import TeamState, lookahead_team
 from ergosim.planner.team import TeamStep
-from ergosim.twin.allocator import Decision
+from ergosim.twin.allocator import Decision, SequenceChoice
 from ergosim.twin.lookahead_allocator import LookaheadAllocator
 from ergosim.twin.team_allocator import Busy
 from ergosim.twin.team_board import TeamBoard
-from ergosim.viz.reason import lookahead_reason
 
 __all__ = ["LookaheadTeamAllocator", "team_state"]
 
@@ -111,13 +110,13 @@ class LookaheadTeamAllocator:
                 continue
             agents = alloc.allowed[step.action] - {a for (act, a) in cut if act == step.action}
             part = self.early.get((step.action, step.agent))
-            reason = lookahead_reason(step.action, step.agent, [(s.action, s.agent) for s in plan.steps],
-                                      plan.cost, math.nan, exact=plan.exact, gap=plan.gap)
+            sequence = SequenceChoice(tuple((s.action, s.agent) for s in plan.steps), plan.cost, math.nan,
+                                      plan.exact, plan.gap)
             decisions.append((Decision(
                 time=time, repetition=repetition, v_now=np.array(v_now), v_hat=v_hat, costs=costs,
                 action=step.action, agent=step.agent, operation=step.operation, had_choice=len(agents) > 1,
-                reason=reason + ("; fetches " + part + " while the rest goes on" if part else ""),
-                through=plan.cost, early=part is not None),
+                basis=alloc.basis, through=plan.cost, early=part is not None, part=part or "",
+                sequence=sequence),
                 TeamStep(step.operation, step.action, step.agent, step.cost, plan.cost,
                          early=part is not None, part=part)))
         return decisions

@@ -16,8 +16,8 @@ from pathlib import Path
 import numpy as np
 
 from ergosim.errors import ConfigError
+from ergosim.progress import Progress
 from ergosim.scenes.workcell import Workcell
-from ergosim.twin.progress import Progress
 from ergosim.twin.records import SubjectRun
 from ergosim.video.encode import Mp4Writer
 from ergosim.video.frames import PoseRenderer, RenderQuality
