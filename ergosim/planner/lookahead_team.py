@@ -105,7 +105,7 @@ class TeamPricing(Pricing):
         n_agents, n_parts = len(graph.agents), len(graph.parts)
         free = np.full((1, n_agents), float(team.now))
         for name, t in team.free.items():
-            free[0, self._agent(name)] = max(float(t), team.now)
+            free[0, self.agent_column(name)] = max(float(t), team.now)
         free[0, self.human] = max(float(team.worker_free), team.now)
         part_t = np.full((1, n_parts), float(team.now))
         bit = {p: i for i, p in enumerate(graph.parts)}
@@ -116,7 +116,8 @@ class TeamPricing(Pricing):
         begun = np.full((1, n_parts), float(team.now))
         return np.zeros(1), v, free[:, self.human].copy(), free, part_t, begun, end
 
-    def _agent(self, name: str) -> int:
+    def agent_column(self, name: str) -> int:
+        """The index of agent ``name`` in the graph's agents (a ConfigError names the agents if unknown)."""
         for j, a in enumerate(self.graph.agents):
             if a.name == name:
                 return j
@@ -203,7 +204,7 @@ def lookahead_team(graph, model: WearModel, team: TeamState, *, done: Iterable[s
     plan = search_sequences(pricing, cid0, pricing.start(), limits)
     waiting = list(dict.fromkeys(idle))
     for name in waiting:
-        pricing._agent(name)
+        pricing.agent_column(name)  # unknown idle agents are refused here
     starts = []
     for step, start in zip(plan.steps, plan.starts, strict=True):
         if step.agent in waiting:
