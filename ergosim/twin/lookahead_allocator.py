@@ -53,9 +53,10 @@ class LookaheadAllocator(Allocator):
     decision (the session's setup does)."""
 
     def __init__(self, graph, mode, *, index, cost, planner: str = "fast", w_time: float = 0.0,
-                 durations: Mapping[tuple[str, str], float] | None = None) -> None:
+                 durations: Mapping[tuple[str, str], float] | None = None,
+                 refused: frozenset[tuple[str, str]] = frozenset()) -> None:
         super().__init__(graph, mode, index=index, cost=cost, planner=planner, w_time=0.0,
-                         durations=durations)
+                         durations=durations, refused=refused)
         self.model: WearModel | None = None
         self.limits = SearchLimits()
         self.unreachable: set[tuple[str, str]] = set()
