@@ -1,7 +1,7 @@
 """Planner benchmark: fast vs paper replan times on the paper's generated tasks (§6), and beyond.
 
     python scripts/bench_planner.py [--json PATH] [--plot PATH] [--quick] [--cap SECONDS] [--seed S]
-                                    [--team-only]
+                                    [--team-only] [--lookahead]
 
 First the team decisions (one decision for a whole idle team, beside a replan on the same graph), then the
 replan table as rows complete, then the targets; writes a PNG plot and optionally the rows as JSON. The
@@ -21,6 +21,13 @@ from ergosim.planner.benchmark import (
     format_table,
     rows_json,
     run_benchmark,
+)
+from ergosim.planner.benchmark_lookahead import (
+    beam_quality,
+    check_lookahead_target,
+    format_lookahead_rows,
+    lookahead_rows_json,
+    run_lookahead_benchmark,
 )
 from ergosim.planner.benchmark_plot import plot_benchmark
 from ergosim.planner.benchmark_team import (
@@ -44,7 +51,11 @@ def main(argv: list[str] | None = None) -> int:
     )
     parser.add_argument("--seed", type=int, default=0, help="seed of the task and replan costs")
     parser.add_argument("--team-only", action="store_true", help="only the team-decision rows")
+    parser.add_argument("--lookahead", action="store_true",
+                        help="only the kwear-lookahead rows (decision times; the beam against exact search)")
     args = parser.parse_args(argv)
+    if args.lookahead:
+        return lookahead(args)
     print("team decisions (every agent idle at the start; times are medians [ms]):", flush=True)
     team = run_team_benchmark(seed=args.seed, quick=args.quick)
     print(format_team_rows(team), flush=True)
@@ -71,6 +82,25 @@ def main(argv: list[str] | None = None) -> int:
     if args.json:
         write_json(args.json, {**rows_json(rows), "team": team_rows_json(team)})
         print(f"json: {args.json}")
+    return 0
+
+
+def lookahead(args) -> int:
+    """The kwear-lookahead rows (issue 24): decision times beside the replan, then the beam's quality."""
+    print("look-ahead decisions (fresh wear per decision; times are medians [ms]):", flush=True)
+    rows = run_lookahead_benchmark(seed=args.seed, quick=args.quick)
+    print(format_lookahead_rows(rows), flush=True)
+    target, met, value = check_lookahead_target(rows)
+    print(f"{'not measured' if met is None else ('met' if met else 'MISSED'):>12}  {target}: {value}\n")
+    quality = beam_quality(draws=10 if args.quick else 40, seed=args.seed)
+    print("beam against the exact search on sequential:7 (6 free actions, 2 agents):")
+    print("   width  same first step  optimal plan  mean excess [%]  max excess [%]  mean reported gap [%]")
+    for width, q in quality.items():
+        print(f"{width:>8}  {q['same_first']:>15.0%}  {q['optimal']:>12.0%}  {q['mean_excess_pct']:>15.3f}"
+              f"  {q['max_excess_pct']:>14.3f}  {q['mean_reported_gap_pct']:>21.1f}")
+    if args.json:
+        write_json(args.json, {"lookahead": lookahead_rows_json(rows),
+                               "beam_quality": {str(k): v for k, v in quality.items()}})
     return 0
 
 

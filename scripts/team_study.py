@@ -1,7 +1,8 @@
 """Sequential against parallel team execution on one scenario: the figures of issue 17's acceptance.
 
     python scripts/team_study.py [--scenario multi-subject] [--subjects 12] [--reps 10] [--seed 0]
-                                 [--mode hrc] [--jobs 2] [--negotiation] [--out results/team_study]
+                                 [--mode hrc] [--jobs 2] [--negotiation] [--lookahead | --only-lookahead]
+                                 [--set KEY=VALUE ...] [--out results/team_study]
 
 Runs the scenario twice in one mode, with ``execution = "sequential"`` (the paper's loop) and
 ``"parallel"`` (every idle agent gets the best ready operation), the same subjects and seeds, into
@@ -9,8 +10,12 @@ Runs the scenario twice in one mode, with ``execution = "sequential"`` (the pape
 sequential run's, which writes none, computed the same way from its runs in memory) and ``summary.json``,
 throughput, makespan, takt overruns, idle time, the KWear integral, time above V_th, the separation and the
 monitor's time, with the parallel/sequential ratios, and writes them to ``OUT/team_study.json``.
-``--negotiation`` adds a third run, parallel with negotiation on. Nothing is tuned: both runs use the
-scenario's calibrated defaults.
+``--negotiation`` adds a run, parallel with negotiation on; ``--lookahead`` a run in parallel with the
+``kwear-lookahead`` mode's decisions, which look at time (issue 24); ``--only-lookahead`` runs only the
+sequential baseline and that one. Each parallel run is compared with the sequential one (ratios and the
+paired Wilcoxon test on the subjects' KWear integrals). Nothing is tuned: every run uses the scenario's
+calibrated defaults, with ``--set`` overrides (``ergosim run``'s keys) applied to every run, e.g.
+``--set time_weight=0.5`` for a sensitivity row.
 """
 
 from __future__ import annotations
@@ -73,37 +78,60 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--mode", default="hrc")
     p.add_argument("--jobs", type=int, default=2)
     p.add_argument("--negotiation", action="store_true", help="a third run: parallel with negotiation on")
+    p.add_argument("--lookahead", action="store_true",
+                   help="another run: parallel with the kwear-lookahead mode's decisions (issue 24)")
+    p.add_argument("--only-lookahead", action="store_true",
+                   help="run only the sequential baseline and the parallel look-ahead")
+    p.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
+                   help="a protocol or scene override for every run (repeatable)")
     p.add_argument("--out", type=Path, default=Path("results/team_study"))
     a = p.parse_args(argv)
     base = {"modes": a.mode, "subjects": str(a.subjects), "repetitions": str(a.reps)}
+    for item in a.overrides:
+        key, sep, value = item.partition("=")
+        if not sep or not key.strip():
+            print(f"error: --set {item!r}: expected KEY=VALUE", file=sys.stderr)
+            return 2
+        base[key.strip()] = value.strip()
     settings = {"sequential": {"execution": "sequential"}, "parallel": {"execution": "parallel"}}
+    if a.only_lookahead:
+        del settings["parallel"]
     if a.negotiation:
         settings["parallel+negotiation"] = {"execution": "parallel", "negotiation": "true"}
+    if a.lookahead or a.only_lookahead:
+        settings["parallel+lookahead"] = {"execution": "parallel", "modes": "kwear-lookahead"}
     figures = {}
     try:
         for label, extra in settings.items():
             scenario = api.load(a.scenario, base | extra)
+            mode = scenario.protocol.modes[0]
             out = a.out / label.replace("+", "_")
-            print(f"running {a.scenario} {label}: {a.subjects} subjects x {a.reps} repetitions", flush=True)
+            print(f"running {a.scenario} {label} ({mode}): {a.subjects} subjects x {a.reps} repetitions",
+                  flush=True)
             results = api.run(scenario, seed=a.seed, out=out, jobs=a.jobs)
-            figures[label] = _figures(scenario, results, out, a.mode)
+            figures[label] = _figures(scenario, results, out, mode)
     except ConfigError as err:
         print(f"error: {err}", file=sys.stderr)
         return 2
-    seq, par = figures["sequential"], figures["parallel"]
-    ratios = {k: par[k] / seq[k] for k in ("throughput_per_hour", "kwear_integral", "makespan_mean_s")
-              if seq[k]}
-    diff = np.asarray(par["kwear_integral_by_subject"]) - np.asarray(seq["kwear_integral_by_subject"])
-    p_kwear = float(wilcoxon(diff).pvalue) if len(diff) >= 2 and np.any(diff != 0) else None
+    seq = figures["sequential"]
     keys = [k for k in seq if k != "kwear_integral_by_subject"]
-    print(f"\n| figure ({a.mode}) | " + " | ".join(figures) + " |")
+    print(f"\n| figure (sequential: {a.mode}) | " + " | ".join(figures) + " |")
     print("|---|" + "---|" * len(figures))
     for k in keys:
         print(f"| {k} | " + " | ".join(_fmt(f[k]) for f in figures.values()) + " |")
-    print(f"\nparallel / sequential: throughput x{ratios['throughput_per_hour']:.3f}, "
-          f"KWear integral x{ratios['kwear_integral']:.3f}, makespan x{ratios['makespan_mean_s']:.3f}; "
-          f"takt overruns {seq['takt_overruns']} -> {par['takt_overruns']}; paired Wilcoxon on the subjects' "
-          f"KWear integrals p = {_fmt(p_kwear)}")
+    ratios, p_kwear = {}, {}
+    for label, par in figures.items():
+        if label == "sequential":
+            continue
+        ratios[label] = {k: par[k] / seq[k] for k in ("throughput_per_hour", "kwear_integral",
+                                                       "makespan_mean_s") if seq[k]}
+        diff = np.asarray(par["kwear_integral_by_subject"]) - np.asarray(seq["kwear_integral_by_subject"])
+        p_kwear[label] = float(wilcoxon(diff).pvalue) if len(diff) >= 2 and np.any(diff != 0) else None
+        r = ratios[label]
+        print(f"{label} / sequential: throughput x{r['throughput_per_hour']:.3f}, KWear integral "
+              f"x{r['kwear_integral']:.3f}, makespan x{r['makespan_mean_s']:.3f}; takt overruns "
+              f"{seq['takt_overruns']} -> {par['takt_overruns']}; paired Wilcoxon on the subjects' KWear "
+              f"integrals p = {_fmt(p_kwear[label])}")
     write_json(a.out / "team_study.json", {"scenario": a.scenario, "mode": a.mode, "seed": a.seed,
                                            "subjects": a.subjects, "repetitions": a.reps,
                                            "figures": figures, "ratios": ratios, "p_kwear": p_kwear})

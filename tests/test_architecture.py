@@ -30,8 +30,8 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("experiment",),
     # 5 studies made of experiments
     ("fidelity", "sweep"),
-    # 6 the user's entry points
-    ("api", "commands", "cli"),
+    # 6 the user's entry points (gym: the Gymnasium environment, built on api)
+    ("api", "commands", "cli", "gym"),
 )
 SIMULATION = ("twin", "worker", "robot", "planner", "ergonomics", "scenes")
 PRESENTATION = ("experiment", "video", "viz")

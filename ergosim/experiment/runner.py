@@ -34,7 +34,7 @@ from ergosim.worker.motion import Worker
 from ergosim.worker.subjects import Subject, make_subjects
 
 __all__ = ["SubjectResult", "Rig", "scenario_subject", "subject_cell", "build_rig", "make_allocator",
-           "subject_session", "run_subject"]
+           "calibrate_subject", "subject_session", "run_subject"]
 
 log = logging.getLogger(__name__)
 
@@ -180,7 +180,8 @@ def make_allocator(scenario: Scenario, mode_name: str, rig: Rig, calibration) ->
         index, cost = entry.build(IndexContext(cfg, rig.plant.kwear, cal))
         if index is not rig.plant.kwear:
             rig.plant.indices.append(index)  # a stateful index of its own is fed the plant's ticks too
-    return Allocator(rig.graph, mode, index=index, cost=cost, planner=cfg.planner, refused=rig.refused)
+    build = mode.allocator or Allocator
+    return build(rig.graph, mode, index=index, cost=cost, planner=cfg.planner, refused=rig.refused)
 
 
 def _session(scenario: Scenario, index: int, subject: Subject, mode: str, rng: np.random.Generator,
@@ -195,13 +196,24 @@ def _session(scenario: Scenario, index: int, subject: Subject, mode: str, rng: n
                         rng=rng, human_seconds=human_seconds)
 
 
+def calibrate_subject(scenario: Scenario, index: int, seed: int):
+    """Subject ``index`` of ``seed``'s population calibrated in the scenario's workcell, as its run does
+    (§5, from child 0 of ``SeedSequence([seed, index])``): (subject, calibration, the worker's expected
+    seconds per action)."""
+    subject = scenario_subject(scenario, index, seed)
+    rng = np.random.default_rng(np.random.SeedSequence([seed, index]).spawn(2)[0])
+    calibration, _, _, seconds = _calibrate(scenario, subject, rng)
+    return subject, calibration, seconds
+
+
 def subject_session(scenario: Scenario, index: int, seed: int, mode: str, *, calibrate: bool = True,
-                    record_bodies: bool = False) -> Session:
+                    record_bodies: bool = False, calibrated=None) -> Session:
     """A ready :class:`Session` of subject ``index`` of ``seed``'s population in ``mode``, for stepping by
     hand: ``session.run(n)`` repetitions, or ``session.perform(action, agent)`` one action at a time.
 
     ``calibrate``: calibrate the subject first (§5), as a run does; a mode without a risk index (``h-only``,
-    ``r-only``) may skip it. Draws from ``SeedSequence([seed, index])`` like the subject's run, whose first
+    ``r-only``) may skip it; ``calibrated``: what :func:`calibrate_subject` returned for the same subject
+    (not calibrated again). Draws from ``SeedSequence([seed, index])`` like the subject's run, whose first
     mode it then equals."""
     mode_spec = get_mode(mode)
     if not calibrate and mode_spec.risk_index is not None:
@@ -210,8 +222,10 @@ def subject_session(scenario: Scenario, index: int, seed: int, mode: str, *, cal
     subject = scenario_subject(scenario, index, seed)
     seqs = np.random.SeedSequence([seed, index]).spawn(2)
     calibration = seconds = None
-    if calibrate:
-        calibration, _, _, seconds = _calibrate(scenario, subject, np.random.default_rng(seqs[0]))
+    if calibrated is not None:
+        subject, calibration, seconds = calibrated
+    elif calibrate:
+        subject, calibration, seconds = calibrate_subject(scenario, index, seed)
     return _session(scenario, index, subject, mode, np.random.default_rng(seqs[1]), calibration,
                     record_bodies=record_bodies, seed=seed, human_seconds=seconds)
 

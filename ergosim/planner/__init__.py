@@ -3,7 +3,9 @@
 ``load_task``/``parse_task`` read TOML task files, ``generate_task`` builds the complexity-study tasks,
 ``bundled_task`` the bundled tasks (the paper's corner joint, a gearbox); :meth:`AndOrGraph.plan`
 re-plans from any configuration with the ``fast`` (bottom-up) or ``paper`` (Algorithm 1) planner;
-``team_assign`` gives every idle agent of a team its best ready operation (parallel execution).
+``team_assign`` gives every idle agent of a team its best ready operation (parallel execution);
+``lookahead_plan`` and ``lookahead_team`` price plans along their execution order with the wear they chain
+(``WearModel``, the kwear-lookahead mode).
 """
 
 from ergosim.planner.agents import Agent, Operation
@@ -12,6 +14,8 @@ from ergosim.planner.compiled import CompiledGraph
 from ergosim.planner.generators import generate_task
 from ergosim.planner.graph import PLANNERS, AndOrGraph
 from ergosim.planner.liaisons import Liaison
+from ergosim.planner.lookahead import LookaheadPlan, SearchLimits, lookahead_plan
+from ergosim.planner.lookahead_team import TeamLookahead, TeamState, lookahead_team
 from ergosim.planner.op_table import OperationTable
 from ergosim.planner.outside import outside_costs, through_costs
 from ergosim.planner.paper_search import SearchBudgetExceeded, SearchMemoryExceeded
@@ -19,6 +23,7 @@ from ergosim.planner.plan import Plan, PlanStep
 from ergosim.planner.replan import replan_until_done
 from ergosim.planner.taskfile import load_task, parse_task, task_from_dict
 from ergosim.planner.team import TeamAssignment, TeamStep, team_assign
+from ergosim.planner.wear_chain import SequencePrice, WearModel, price_sequence
 
 __all__ = [
     "AndOrGraph",
@@ -46,4 +51,13 @@ __all__ = [
     "TeamAssignment",
     "outside_costs",
     "through_costs",
+    "WearModel",
+    "SequencePrice",
+    "price_sequence",
+    "lookahead_plan",
+    "LookaheadPlan",
+    "SearchLimits",
+    "lookahead_team",
+    "TeamState",
+    "TeamLookahead",
 ]

@@ -10,6 +10,8 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 
+import numpy as np
+
 from ergosim.errors import ConfigError
 from ergosim.experiment.summary import summarise
 
@@ -25,6 +27,7 @@ METRICS: dict[str, str] = {
     "kwear_mean": "mean ΣV over the run",
     "time_above_vth": "time with some joint at V ≥ V_th [s]",
     "takt_overruns": "repetitions over the takt",
+    "repetition_time": "mean time of a completed repetition, its start to its last action's end [s]",
     "duration": "simulated duration of the run [s]",
     "repetitions_completed": "repetitions completed",
     "repetitions_abandoned": "repetitions abandoned",
@@ -138,6 +141,8 @@ def unit_metrics(run, rula_g: Mapping[str, float], actions: Sequence[str]) -> di
     out["kwear_mean"] = m["kwear_mean_by_subject"][0]
     out["time_above_vth"] = m["time_above_vth_by_subject"][0]
     out["takt_overruns"] = m["takt_overruns"]
+    spans = [o.t_end - o.t_start for o in run.outcomes if o.outcome == "completed"]
+    out["repetition_time"] = float(np.mean(spans)) if spans else None
     out["duration"] = m["duration_by_subject"][0]
     for key in ("repetitions_completed", "repetitions_abandoned", "actions", "robot_actions",
                 "forced_robot_actions", "forced_human_actions", "failed_attempts", "robot_failures",

@@ -10,15 +10,17 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Mapping
+from typing import NamedTuple
 
 import numpy as np
 
 from ergosim.ergonomics.cost import CostParams, risk_costs
 from ergosim.ergonomics.risk_index import RiskIndex
 from ergosim.planner import AndOrGraph
+from ergosim.twin.durations import expected_durations
 from ergosim.twin.modes import Mode
 
-__all__ = ["Basis", "Decision", "Allocator"]
+__all__ = ["Basis", "Decision", "DecisionPoint", "SequenceChoice", "Allocator"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -37,6 +39,20 @@ class Basis:
 
 
 @dataclasses.dataclass(frozen=True)
+class SequenceChoice:
+    """Why a look-ahead decision (``kwear-lookahead``) chose as it did: the ``steps`` ((action, agent) in
+    order) of the cheapest sequence it starts, that sequence's ``cost``, ``other``, the cheapest sequence that
+    gives the action to another agent (NaN if not computed), whether the search was ``exact``, and the beam's
+    ``gap`` from the optimum otherwise."""
+
+    steps: tuple[tuple[str, str], ...]
+    cost: float
+    other: float
+    exact: bool
+    gap: float
+
+
+@dataclasses.dataclass(frozen=True)
 class Decision:
     """What the allocator saw and chose at one decision point (sim time [s]), and why, as data.
 
@@ -45,7 +61,8 @@ class Decision:
     ``basis``: what the choice is judged by. Parallel execution adds ``through``, the cost of the cheapest
     plan through the chosen hyper-arc, ``excess``, how much that exceeds the optimal plan (0: the agent
     follows it), and ``early`` with ``part``: the agent fetches ``part`` for a handover before the
-    operation's other children exist. The sentence the recording and the video show is
+    operation's other children exist. A look-ahead decision adds ``sequence``
+    (:class:`SequenceChoice`). The sentence the recording and the video show is
     :func:`ergosim.viz.reason.reason_text`.
     """
 
@@ -63,9 +80,22 @@ class Decision:
     excess: float = 0.0
     early: bool = False
     part: str = ""
+    sequence: SequenceChoice | None = None
 
     def cost_of(self, agent: str) -> float:
         return float(self.costs.get((self.action, agent), np.nan))
+
+
+class DecisionPoint(NamedTuple):
+    """Where the loop asks for the next (action, agent): the arguments of
+    :meth:`Allocator.decide` (KWear (5,), the operations done, the pruned and declined
+    (action, agent) pairs, sim time [s], repetition)."""
+
+    v_now: np.ndarray
+    done: list[str]
+    pruned: set[tuple[str, str]]
+    time: float
+    repetition: int
 
 
 class Allocator:
@@ -106,6 +136,17 @@ class Allocator:
         self.basis = Basis(mode.name, mode.risk_index, None if cost is None else cost.v_th,
                            1.0 if index is None else index.scale, self.human, self.robots)
 
+    def prepare(self, *, cfg, cell, robots, human_seconds: Mapping[str, float]) -> None:
+        """Before the first decision: the time term's expected durations (protocol ``w_time`` > 0) from the
+        cell, its robots (name -> RobotTrack) and the worker's calibrated ``human_seconds``."""
+        if cfg.team.w_time > 0:
+            self.w_time = cfg.team.w_time
+            self.durations = expected_durations(cell, robots, self.allowed, self.human, human_seconds)
+
+    def observe(self, action: str, agent: str, seconds: float) -> None:
+        """``agent`` completed ``action`` in ``seconds`` (not a handover's span in parallel execution, which
+        includes its wait); the paper's rule does not use it."""
+
     def action_of(self, operation: str) -> str:
         return self._action_of[operation]
 
@@ -127,6 +168,36 @@ class Allocator:
                     else:
                         added[key] = self.w_time * seconds
         return v_hat, costs, added
+
+    def ready(self, done: list[str], pruned: set[tuple[str, str]]) -> dict[tuple[str, str], str]:
+        """(action, agent) -> the operation it would do now: the first operation (in task order) of each
+        action whose children all exist, for each agent allowed on it and not pruned (by the mode or
+        ``pruned``)."""
+        config = set(self.graph.configuration(done))
+        cut = self.base_pruned | pruned
+        out: dict[tuple[str, str], str] = {}
+        for op in self.graph.operations:
+            if op.name in done or not set(op.children) <= config:
+                continue
+            for agent in op.agents:
+                if (op.action, agent) not in cut:
+                    out.setdefault((op.action, agent), op.name)
+        return out
+
+    def chosen(self, action: str, agent: str, v_now: np.ndarray, done: list[str],
+               pruned: set[tuple[str, str]], time: float, repetition: int) -> Decision | None:
+        """The :class:`Decision` for an (action, agent) chosen by someone else (a Gym policy), with this
+        mode's prices for the record; None if the pair cannot start now (:meth:`ready`)."""
+        operation = self.ready(done, pruned).get((action, agent))
+        if operation is None:
+            return None
+        done_actions = {self._action_of[o] for o in done}
+        v_hat, costs, _ = self.price([a for a in self.graph.actions if a not in done_actions])
+        cut = self.base_pruned | pruned
+        agents = self.allowed[action] - {a for (act, a) in cut if act == action}
+        return Decision(time=time, repetition=repetition, v_now=np.array(v_now), v_hat=v_hat, costs=costs,
+                        action=action, agent=agent, operation=operation, had_choice=len(agents) > 1,
+                        basis=self.basis)
 
     def decide(self, v_now: np.ndarray, done: list[str], pruned: set[tuple[str, str]], time: float,
                repetition: int) -> Decision | None:

@@ -16,9 +16,10 @@ import mujoco
 import numpy as np
 
 from ergosim import quat
+from ergosim.twin.loop import Plant, PlantHook
 from ergosim.worker.minimum_jerk import min_jerk
 
-__all__ = ["InHandTurn", "relative_pose", "slerp"]
+__all__ = ["InHandTurn", "CarryHook", "relative_pose", "slerp"]
 
 
 def relative_pose(p1: np.ndarray, q1: np.ndarray, p2: np.ndarray,
@@ -71,3 +72,31 @@ class InHandTurn:
         i = frame - self.start
         data[3:6] = self._pos[i]
         data[6:10] = self._quat[i]
+
+
+class CarryHook(PlantHook):
+    """The worker's hand on a part during one motion. The motion is kinematic and not collision-planned, like
+    the human body itself: what the worker carries (the grasped part, or the whole assembly held by
+    ``body``) passes through the furniture and the robot from the grasp until the release, then collides
+    again and comes to rest on its own (the scene then decides completion). ``turn`` moves the grasp weld
+    so the part ends on its target (:class:`InHandTurn`)."""
+
+    def __init__(self, cell, hand: str, geom, body: str, turn: InHandTurn) -> None:
+        self.cell, self.hand, self.geom, self.body, self.turn = cell, hand, geom, body, turn
+        self.carried = cell.collision_geoms(body)
+
+    def on_grasp(self, plant: Plant) -> None:
+        self.cell.grasp(self.hand, self.body)  # at a handover the robot sees this and lets go
+        self.cell.pass_through(self.carried, True)
+
+    def on_release(self, plant: Plant) -> None:
+        cell, geom = self.cell, self.geom
+        cell.release(self.hand, self.body)
+        cell.pass_through(self.carried, False)
+        if geom.seats:
+            cell.seat(geom.part)
+        elif geom.received:
+            cell.receive(geom.part, cell.site_pose(geom.target)[0])
+
+    def before_physics(self, plant: Plant, frame: int) -> None:
+        self.turn(frame)

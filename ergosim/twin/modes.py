@@ -13,10 +13,13 @@ Bundled modes:
 - ``hrc-reba``: the same framework with KWear on REBA's part scores (the legs a sixth joint);
 - ``reba``: a static REBA baseline (the REBA score G(a_k) against ``reba_threshold``);
 - ``h-only``: the worker does everything and waits for the takt (§7.2's H only);
-- ``r-only``: every action a robot may do goes to a robot.
+- ``r-only``: every action a robot may do goes to a robot;
+- ``kwear-lookahead``: the paper's KWear costs chained along the plan, with recovery and the takt; the next
+  (action, agent) starts the cheapest sequence (:mod:`ergosim.twin.lookahead_allocator`).
 
 Add a mode with :func:`register_mode` (a new module that calls it is enough), a risk index with
-:func:`register_risk_index`.
+:func:`register_risk_index`. A mode that decides differently from AO* on the order-free costs brings its own
+allocator factories (``allocator``, ``team_allocator``).
 """
 
 from __future__ import annotations
@@ -86,6 +89,12 @@ class Mode:
     uses_robot: bool = True
     table_key: str | None = None
     paired_with: str | None = None
+    allocator: Callable[..., object] | None = None
+    """Builds the mode's sequential allocator from (graph, mode, index=, cost=, planner=); None: the paper's
+    :class:`~ergosim.twin.allocator.Allocator` (AO* on the order-free costs)."""
+    team_allocator: Callable[..., object] | None = None
+    """Builds its parallel decisions from (allocator, early=, margin=); None: the team rule of issue 17
+    (:class:`~ergosim.twin.team_allocator.TeamAllocator`)."""
 
     def pruned(self, allowed: Mapping[str, set[str]], human: str,
                robots: tuple[str, ...]) -> set[tuple[str, str]]:
@@ -170,3 +179,20 @@ register_mode(Mode("hrc-reba", "KWear on REBA part scores, legs included (eq. 9-
                    risk_index="kwear-reba", table_key="kwear_reba", paired_with="h-only"))
 register_mode(Mode("reba", "static REBA baseline (G(a_k) >= reba_threshold goes to the robot)",
                    risk_index="reba-static", table_key="reba"))
+
+
+def _lookahead(*args, **kwargs):
+    from ergosim.twin.lookahead_allocator import LookaheadAllocator  # noqa: PLC0415 - it imports this module
+
+    return LookaheadAllocator(*args, **kwargs)
+
+
+def _lookahead_team(*args, **kwargs):
+    from ergosim.twin.lookahead_team_allocator import LookaheadTeamAllocator  # noqa: PLC0415 - as above
+
+    return LookaheadTeamAllocator(*args, **kwargs)
+
+
+register_mode(Mode("kwear-lookahead", "KWear costs chained along the plan, with recovery and the takt",
+                   risk_index="kwear", table_key="kwear-lookahead", paired_with="hrc", allocator=_lookahead,
+                   team_allocator=_lookahead_team))

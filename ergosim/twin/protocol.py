@@ -10,7 +10,8 @@ own flat name (``takt = 40``, ``--set v_th=0.7``); the fields live in groups by 
 - :class:`PacingConfig`, ``pacing``: the repetitions, the takt and who paces the line;
 - :class:`TeamConfig`, ``team``: team execution and negotiation (issue 17);
 - :class:`SensingConfig`, ``sensing``: the clocks and the mocap stream;
-- :class:`CalibrationConfig`, ``calibration``: the calibration of α (§5).
+- :class:`CalibrationConfig`, ``calibration``: the calibration of α (§5);
+- :class:`LookaheadConfig`, ``lookahead``: the ``kwear-lookahead`` mode's prices and search (issue 24).
 
 :class:`ScenarioConfig` holds the groups with the scenario's labels, modes and planner. Flat names are
 unique across the groups; :data:`PROTOCOL_KEYS` lists them in the order the file format documents them,
@@ -28,10 +29,10 @@ from ergosim.errors import ConfigError
 from ergosim.machine import physical_memory
 from ergosim.overrides import flat_values, replace_flat
 from ergosim.robot.trajectory import CONTACT_SPEED, TRANSIT_SPEED
-from ergosim.twin.modes import mode_names
+from ergosim.twin.modes import mode_names, mode_or_default
 
 __all__ = ["ScenarioConfig", "CostConfig", "RobotConfig", "PopulationConfig", "PacingConfig", "TeamConfig",
-           "SensingConfig", "CalibrationConfig", "PROTOCOL_KEYS", "EE_SPEED_MIN",
+           "SensingConfig", "CalibrationConfig", "LookaheadConfig", "PROTOCOL_KEYS", "EE_SPEED_MIN",
            "ETA_MAX_LIMIT", "PHYSICS_DT_MIN", "TAKT_MAX", "HORIZON_MAX", "SUBJECTS_MAX", "W_TIME_MAX",
            "run_memory"]
 
@@ -253,6 +254,41 @@ class CalibrationConfig:
 
 
 @dataclasses.dataclass(frozen=True)
+class LookaheadConfig:
+    """The ``kwear-lookahead`` mode (issue 24): what its plans' time costs and how it searches
+    (:mod:`ergosim.planner.lookahead`, :mod:`ergosim.twin.lookahead_allocator`)."""
+
+    takt_weight: float | None = None
+    """Cost per second by which a plan's predicted end passes the takt; None: Γ/takt (assumed: a whole takt
+    of overrun costs as much as one joint past V_th, eq. 11)."""
+    time_weight: float | None = None
+    """Cost per second of a plan's predicted duration (its makespan, the critical path, in parallel
+    execution); None: 0 in sequential execution (the paper's form: time within the takt is free on a paced
+    line) and ``takt_weight`` in parallel (a parallel team exists to shorten the cycle, so a second of it is
+    priced as a second past the takt)."""
+    lookahead_next: float = 1.0
+    """Weight of the wear a plan leaves, priced as the next repetition would see it
+    (ergosim.planner.wear_chain.next_cost); 0 ends the plan with its repetition."""
+    lookahead_exact: int = 20_000
+    """Search exactly when the remaining plan has at most this many sequences (orders × agents; assumed:
+    every bundled task, the gearbox has 768; ergosim.planner.lookahead)."""
+    lookahead_beam: int = 6
+    """The beam's width otherwise (assumed; decision time in docs/allocation_modes.md,
+    scripts/bench_planner.py --lookahead)."""
+
+    def validate(self, where: str) -> None:
+        _need(self.takt_weight is None or self.takt_weight >= 0,
+              f"takt_weight must be >= 0 (cost per second past the takt) or none, got {self.takt_weight}",
+              where)
+        _need(self.time_weight is None or self.time_weight >= 0,
+              f"time_weight must be >= 0 (cost per second) or none, got {self.time_weight}", where)
+        _need(self.lookahead_next >= 0, f"lookahead_next must be >= 0, got {self.lookahead_next}", where)
+        _need(self.lookahead_exact >= 0,
+              f"lookahead_exact must be >= 0 sequences, got {self.lookahead_exact}", where)
+        _need(self.lookahead_beam >= 1, f"lookahead_beam must be >= 1, got {self.lookahead_beam}", where)
+
+
+@dataclasses.dataclass(frozen=True)
 class ScenarioConfig:
     """The protocol of one scenario. ``scene`` and ``task`` are labels (the workcell's name, the task file's
     name) for the outputs; ``modes``: the allocation modes run (:mod:`ergosim.twin.modes`); ``planner``:
@@ -269,6 +305,7 @@ class ScenarioConfig:
     team: TeamConfig = TeamConfig()
     sensing: SensingConfig = SensingConfig()
     calibration: CalibrationConfig = CalibrationConfig()
+    lookahead: LookaheadConfig = LookaheadConfig()
 
     @classmethod
     def of(cls, scene: str, task: str, **fields: Any) -> ScenarioConfig:
@@ -290,6 +327,7 @@ class ScenarioConfig:
         self.robot.validate(where)
         self.calibration.validate(where)
         self.team.validate(where)
+        self.lookahead.validate(where)
         held, memory = run_memory(self), physical_memory()
         _need(held <= memory / 2, f"subjects × modes × repetitions × takt = {self.population.subjects} × "
               f"{len(self.modes)} × {self.pacing.repetitions} × {self.pacing.takt:g} s of records at "
@@ -298,12 +336,16 @@ class ScenarioConfig:
 
     def record(self) -> dict:
         """The protocol as the outputs record it (``summary.json`` ``config``, ``run.json``), flat by field
-        name: every field, except the team group while it keeps its defaults and ``reba_threshold`` while it
-        keeps its default, so a paper protocol's outputs stay as they were."""
+        name: every field, except the team group while it keeps its defaults, ``reba_threshold`` while it
+        keeps its default, and the look-ahead's group while it keeps its defaults and no mode with its own
+        allocator runs, so a paper protocol's outputs stay as they were."""
         out = flat_values(self)
-        if self.team == TeamConfig():
-            for key in dataclasses.asdict(self.team):
-                out.pop(key)
+        own_rule = any(mode_or_default(m).allocator is not None for m in self.modes)
+        for group, default, used in ((self.team, TeamConfig(), False),
+                                     (self.lookahead, LookaheadConfig(), own_rule)):
+            if not used and group == default:
+                for key in dataclasses.asdict(group):
+                    out.pop(key)
         if self.cost.reba_threshold == CostConfig.reba_threshold:
             out.pop("reba_threshold")
         return out

@@ -15,16 +15,16 @@ import numpy as np
 from ergosim import quat
 from ergosim.errors import InfeasiblePlanError
 from ergosim.scenes.build import weld_name
-from ergosim.twin.allocator import Allocator, Decision
-from ergosim.twin.in_hand import InHandTurn, relative_pose
-from ergosim.twin.loop import Plant, PlantHook
+from ergosim.twin.allocator import Allocator, Decision, DecisionPoint
+from ergosim.twin.in_hand import CarryHook, InHandTurn, relative_pose
+from ergosim.twin.loop import Plant
 from ergosim.twin.modes import get_mode
 from ergosim.twin.protocol import ScenarioConfig
 from ergosim.twin.records import Allocation, Failure, RepetitionOutcome, SubjectRun
 from ergosim.twin.ssm_monitor import SafetyMonitor
 from ergosim.worker.motion import Worker
 
-__all__ = ["Session", "Outcome"]
+__all__ = ["Session", "Outcome", "DecisionPoint"]
 
 log = logging.getLogger(__name__)
 
@@ -107,7 +107,7 @@ class Session:
         eq = cell.model.equality(weld_name(self.hand, body)).id
         return InHandTurn(cell.model, eq, pos1, quat1, start, end)
 
-    def _worker_begin(self, geom, handover: bool = False) -> Outcome | tuple[object, _Carry]:
+    def _worker_begin(self, geom, handover: bool = False) -> Outcome | tuple[object, CarryHook]:
         """Plan the worker's motion for ``geom`` and start it, with the hook of the hand on the part: the
         motion and that hook, or a failed Outcome when the hand cannot reach the part."""
         plant, cell = self.plant, self.cell
@@ -119,11 +119,11 @@ class Session:
             return Outcome(False, f"unreachable ({motion.reach_error * 100:.0f} cm short)", t0, plant.time)
         plant.track.start_action(motion)
         grasp_part = cell.grasp_body(geom.part) if geom.moves_assembly else geom.part
-        carry = _Carry(cell, self.hand, geom, grasp_part, self._in_hand_turn(motion, geom, grasp_part))
+        carry = CarryHook(cell, self.hand, geom, grasp_part, self._in_hand_turn(motion, geom, grasp_part))
         plant.hooks.append(carry)
         return motion, carry
 
-    def _worker_end(self, carry: _Carry) -> None:
+    def _worker_end(self, carry: CarryHook) -> None:
         """The worker's motion is over: its hook goes, and what it carried collides again."""
         self.plant.hooks.remove(carry)
         self.cell.pass_through(carry.carried, False)
@@ -194,6 +194,27 @@ class Session:
 
     # -- repetitions ---------------------------------------------------------------------------------------
     def _repetition(self, rep: int) -> bool:
+        return self._decide_all(self._repetition_steps(rep))
+
+    def _decide_all(self, steps):
+        """Run the generator ``steps`` (of :meth:`_repetition_steps` or :meth:`run_steps`) to its end, the
+        allocator answering every :class:`DecisionPoint`; returns what the generator returns."""
+        try:
+            point = next(steps)
+            while True:
+                try:
+                    decision = self.allocator.decide(*point)
+                except InfeasiblePlanError as err:
+                    point = steps.throw(err)
+                else:
+                    point = steps.send(decision)
+        except StopIteration as stop:
+            return stop.value
+
+    def _repetition_steps(self, rep: int):
+        """One repetition as a generator: it yields a :class:`DecisionPoint` whenever the allocator is asked
+        for the next (action, agent), receives the :class:`~ergosim.twin.allocator.Decision` (None: nothing
+        is left), or an InfeasiblePlanError thrown in, and returns whether the repetition completed."""
         plant, alloc = self.plant, self.allocator
         done: list[str] = []
         pruned: set[tuple[str, str]] = set()
@@ -202,7 +223,7 @@ class Session:
         order = 0
         while True:
             try:
-                decision = alloc.decide(plant.v, done, pruned | declined, plant.time, rep)
+                decision = yield DecisionPoint(plant.v, done, pruned | declined, plant.time, rep)
             except InfeasiblePlanError as err:
                 # Every agent that may do a remaining action failed at it: the repetition cannot finish.
                 self._abandon(rep, order, done, pruned, err.what)
@@ -216,6 +237,8 @@ class Session:
             declined.clear()
             self.decisions.append(decision)
             out = self.perform(decision.action, decision.agent)
+            if out.ok:
+                alloc.observe(decision.action, decision.agent, out.t_end - out.t_start)
             attempt = sum(a.action == decision.action and a.status != "refused"
                           for a in self.allocations if a.repetition == rep) + 1
             if out.ok:
@@ -270,6 +293,12 @@ class Session:
         return True
 
     def run(self, repetitions: int) -> SubjectRun:
+        """``repetitions`` of the task, every decision the allocator's."""
+        return self._decide_all(self.run_steps(repetitions))
+
+    def run_steps(self, repetitions: int):
+        """:meth:`run` as a generator of :class:`DecisionPoint` (see :meth:`_repetition_steps`): whoever
+        drives it decides (the Gym environment, :mod:`ergosim.gym`); returns the :class:`SubjectRun`."""
         plant, cfg = self.plant, self.cfg
         completed = overruns = 0
         # a takt-paced line starts every repetition at its takt slot (paper §7.2: "we fixed the takt time for
@@ -283,7 +312,7 @@ class Session:
             self.cell.reset_parts()  # the second operator lays the parts out again (§7.2)
             plant.repetition = rep
             start = plant.time
-            ok = self._repetition(rep)
+            ok = yield from self._repetition_steps(rep)
             completed += int(ok)
             overruns += int(plant.time - start > cfg.pacing.takt)
             if ok:
@@ -360,34 +389,6 @@ class Session:
                 status="pruned", attempt=attempts, allocatable=len(agents) > 1,
             ))
             order += 1
-
-
-class _Carry(PlantHook):
-    """The worker's hand on a part during one motion. The motion is kinematic and not collision-planned, like
-    the human body itself: what the worker carries (the grasped part, or the whole assembly held by
-    ``body``) passes through the furniture and the robot from the grasp until the release, then collides
-    again and comes to rest on its own (the scene then decides completion). ``turn`` moves the grasp weld
-    so the part ends on its target (:class:`~ergosim.twin.in_hand.InHandTurn`)."""
-
-    def __init__(self, cell, hand: str, geom, body: str, turn: InHandTurn) -> None:
-        self.cell, self.hand, self.geom, self.body, self.turn = cell, hand, geom, body, turn
-        self.carried = cell.collision_geoms(body)
-
-    def on_grasp(self, plant: Plant) -> None:
-        self.cell.grasp(self.hand, self.body)  # at a handover the robot sees this and lets go
-        self.cell.pass_through(self.carried, True)
-
-    def on_release(self, plant: Plant) -> None:
-        cell, geom = self.cell, self.geom
-        cell.release(self.hand, self.body)
-        cell.pass_through(self.carried, False)
-        if geom.seats:
-            cell.seat(geom.part)
-        elif geom.received:
-            cell.receive(geom.part, cell.site_pose(geom.target)[0])
-
-    def before_physics(self, plant: Plant, frame: int) -> None:
-        self.turn(frame)
 
 
 def _reason(status: str) -> str:

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -18,7 +19,21 @@ from ergosim.planner.team import TeamStep, team_assign
 from ergosim.twin.allocator import Allocator, Decision
 from ergosim.twin.team_board import TeamBoard
 
-__all__ = ["TeamAllocator", "team_margin"]
+__all__ = ["TeamAllocator", "team_margin", "Busy"]
+
+
+@dataclass(frozen=True)
+class Busy:
+    """An agent at work when the team decides: ``agent`` on ``action`` since sim time ``t0`` [s], in the
+    session's job ``state`` (``acting``, ``settling``, ``moving``, ``fetching``, ``waiting``, ``taken``,
+    ``homing``, ``failing``); ``take``: the worker is taking the part ``robot`` hands over."""
+
+    agent: str
+    action: str
+    t0: float
+    state: str
+    take: bool = False
+    robot: str | None = None
 
 
 def team_margin(allocator: Allocator, margin: float | None) -> float | None:
@@ -40,10 +55,12 @@ class TeamAllocator:
         self.margin = team_margin(allocator, margin)
 
     def decide(self, v_now: np.ndarray, board: TeamBoard, idle: Sequence[str], pruned: set[tuple[str, str]],
-               time: float, repetition: int, *, guard: bool = True) -> list[tuple[Decision, TeamStep]]:
+               time: float, repetition: int, *, guard: bool = True,
+               busy: Sequence[Busy] = ()) -> list[tuple[Decision, TeamStep]]:
         """The decisions for the ``idle`` agents now (each with its team step); ``guard`` False drops the
-        margin (a team that would otherwise stand still). Raises InfeasiblePlanError when the assembly can
-        no longer be finished with what is running."""
+        margin (a team that would otherwise stand still); ``busy``: the agents at work (this rule does not
+        look at time). Raises InfeasiblePlanError when the assembly can no longer be finished with what is
+        running."""
         alloc = self.allocator
         done_actions = {alloc.action_of(o) for o in board.done}
         busy = {alloc.action_of(o) for o in board.running.values()} | set(board.reserved)

@@ -25,10 +25,11 @@ import numpy as np
 
 from ergosim.errors import InfeasiblePlanError
 from ergosim.twin.allocator import Decision
+from ergosim.twin.modes import get_mode
 from ergosim.twin.records import Failure
 from ergosim.twin.robot_track import RobotGroup, RobotTrack
 from ergosim.twin.session import _ACTION_TIMEOUT, _HUMAN_ATTEMPTS, Outcome, Session, _reason
-from ergosim.twin.team_allocator import TeamAllocator
+from ergosim.twin.team_allocator import Busy, TeamAllocator
 from ergosim.twin.team_board import TeamBoard
 
 __all__ = ["TeamSession", "handover_early"]
@@ -78,14 +79,19 @@ class TeamSession(Session):
     def __init__(self, *, margin: float | None = None, **kwargs) -> None:
         super().__init__(**kwargs)
         alloc = self.allocator
-        self.team = TeamAllocator(alloc, early=handover_early(self.cell, alloc.allowed, alloc.robots),
-                                  margin=margin)
+        build = get_mode(self.mode).team_allocator or TeamAllocator
+        self.team = build(alloc, early=handover_early(self.cell, alloc.allowed, alloc.robots), margin=margin)
         self.plant.robot = RobotGroup(self.robots.values())
         self._ids = count()
         self.worker_job: _Job | None = None
         self.robot_jobs: dict[str, _Job] = {}
 
     # -- one repetition --------------------------------------------------------------------------------------
+    def _repetition_steps(self, rep: int):
+        """The team decides inside the repetition's event loop: nothing is yielded to the caller."""
+        return self._repetition(rep)
+        yield  # pragma: no cover - makes this a generator
+
     def _repetition(self, rep: int) -> bool:
         self.board = TeamBoard(self.allocator.graph, self.team.early)
         self._rep = rep
@@ -126,7 +132,7 @@ class TeamSession(Session):
                 while True:
                     try:
                         picks = self.team.decide(plant.v, self.board, idle, self._pruned | declined,
-                                                 plant.time, rep, guard=guard)
+                                                 plant.time, rep, guard=guard, busy=self._busy())
                     except InfeasiblePlanError as err:
                         if self._active():
                             return True  # something still running may free what is missing
@@ -151,6 +157,12 @@ class TeamSession(Session):
                 started_instantly_failed |= not self._start(decision, step, rep)
             if not started_instantly_failed:
                 return True
+
+    def _busy(self) -> list[Busy]:
+        """The agents at work, for decisions that look at time."""
+        jobs = ([self.worker_job] if self.worker_job is not None else []) + list(self.robot_jobs.values())
+        return [Busy(j.agent, j.geom.action, j.t0, j.state, take=j.serves is not None,
+                     robot=j.serves.agent if j.serves is not None else None) for j in jobs]
 
     def _active(self) -> bool:
         """Some agent is at work, or a robot is on its way home (it is free again soon): wait for it rather
@@ -314,6 +326,8 @@ class TeamSession(Session):
         the sequential session (paper §2.2)."""
         decision, rep, alloc = job.decision, job.repetition, self.allocator
         t_end = out.t_end
+        if out.ok and job.geom.handover is None:  # a handover's span includes its wait for the worker
+            alloc.observe(decision.action, decision.agent, t_end - job.t0)
         if not out.ok:
             msg = (f"repetition {rep}: {decision.action} by {decision.agent} failed ({out.status}) "
                    f"at t={t_end:.1f} s" + (f": {out.message}" if out.message else ""))

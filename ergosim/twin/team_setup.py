@@ -11,7 +11,6 @@ import zlib
 
 import numpy as np
 
-from ergosim.twin.durations import expected_durations
 from ergosim.twin.negotiation import Negotiator
 from ergosim.twin.session import Session
 from ergosim.twin.ssm_monitor import SafetyMonitor
@@ -38,10 +37,7 @@ def make_session(cfg, *, rig, allocator, mode: str, subject: int, seed: int, rng
     """The session of one subject in one mode: :class:`TeamSession` for ``execution = "parallel"``, else the
     sequential :class:`Session`, with the protocol's time term, negotiation and the workcell's monitoring."""
     plant = rig.plant
-    if cfg.team.w_time > 0:
-        allocator.w_time = cfg.team.w_time
-        allocator.durations = expected_durations(rig.cell, rig.robots, allocator.allowed, allocator.human,
-                                                 human_seconds or {})
+    allocator.prepare(cfg=cfg, cell=rig.cell, robots=rig.robots, human_seconds=human_seconds or {})
     negotiator = None
     if cfg.team.negotiation:
         offers = np.random.default_rng(np.random.SeedSequence([seed, subject, NEGOTIATION_STREAM,

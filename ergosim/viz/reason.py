@@ -21,7 +21,7 @@ from ergosim.registry import Registry
 if TYPE_CHECKING:  # only read: the simulation does not know its words
     from ergosim.twin.allocator import Decision
 
-__all__ = ["allocation_reason", "reason_text", "register_reason", "REASONS"]
+__all__ = ["allocation_reason", "lookahead_reason", "reason_text", "register_reason", "REASONS"]
 
 REASONS: Registry[Callable[[Decision], str]] = Registry("reason wording", where="reason")
 """The wording of a risk index's decisions, by the index's name: decision -> ``"a2 → robot: ..."``."""
@@ -33,11 +33,15 @@ def register_reason(index: str, words: Callable[[Decision], str]) -> None:
 
 
 def reason_text(d: Decision) -> str:
-    """The sentence of decision ``d``: the risk index's wording (:data:`REASONS`; a threshold sentence
-    like KWear's for an index without one), or ``"a2 → robot: r-only mode"`` for a mode without an index;
+    """The sentence of decision ``d``: the look-ahead's sequence (:func:`lookahead_reason`), the risk
+    index's wording (:data:`REASONS`; a threshold sentence like KWear's for an index without one), or
+    ``"a2 → robot: r-only mode"`` for a mode without an index;
     then, in parallel execution, why an idle agent took a costlier plan or fetched a part early."""
     index = d.basis.index
-    if index is None:
+    if d.sequence is not None:  # the look-ahead: the sequence it starts
+        q = d.sequence
+        text = lookahead_reason(d.action, d.agent, q.steps, q.cost, q.other, exact=q.exact, gap=q.gap)
+    elif index is None:
         text = f"{d.action} → {d.agent}: {d.basis.mode} mode"
     else:
         text = (REASONS[index] if index in REASONS else _threshold_reason)(d)
@@ -110,6 +114,20 @@ def _cost_clause(action: str, agent: str, costs: Mapping[tuple[str, str], float]
         op = "<" if mine < cost else ("=" if mine == cost else ">")
         clauses.append(f"cost {agent} {mine:.2f} {op} {other} {cost:.2f}")
     return ", ".join(clauses)
+
+
+def lookahead_reason(action: str, agent: str, plan, cost: float, other: float, *, exact: bool,
+                     gap: float) -> str:
+    """E.g. ``"a2 → robot: starts the cheapest sequence a2·robot a3·human a4·human a5·human, 7.12 (exact);
+    a2 by another agent: 7.40"``. ``plan``: (action, agent) pairs in order; ``other``: the cheapest sequence
+    that gives ``action`` to another agent (NaN if not computed); ``gap``: how far the beam's sequence can be
+    from the optimum."""
+    steps = " ".join(f"{a}·{who}" for a, who in plan)
+    quality = "exact" if exact else f"beam, within {gap:.2f} of the optimum"
+    text = f"{action} → {agent}: starts the cheapest sequence {steps}, {cost:.2f} ({quality})"
+    if np.isfinite(other):
+        text += f"; {action} by another agent: {other:.2f}"
+    return text
 
 
 register_reason("kwear", _threshold_reason)
