@@ -34,13 +34,13 @@ def test_hand_reaches_the_part_in_the_scene_within_2cm(worker, part_pos):
     scene, motion = _plan(worker, part_pos, worker_pos=(0.2, 0.3, 0.0), yaw=0.4)
     human = HumanModel(scene.model)
     k = int(np.searchsorted(motion.t, motion.t_grasp)) - 1  # last frame of the grasp phase
-    human.set_angles(scene.data, motion.angles[k])
+    human.set_body(scene.data, motion.angles[k], motion.stances[k])
     part = scene.body_pose("part")[0]
     assert np.linalg.norm(human.hand_pos(scene.data) - part) < 0.02
     assert np.linalg.norm(motion.hand_pos[k] - part) < 0.02
     # and the part is carried to the target
     k = int(np.searchsorted(motion.t, motion.t_release)) - 1
-    human.set_angles(scene.data, motion.angles[k])
+    human.set_body(scene.data, motion.angles[k], motion.stances[k])
     assert np.linalg.norm(human.hand_pos(scene.data) - scene.site_pose("target")[0]) < 0.02
 
 

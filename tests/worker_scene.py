@@ -19,7 +19,7 @@ class PointScene:
         body.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=[0.02, 0.02, 0.02])
         spec.worldbody.add_site(name="target", pos=list(target_pos), euler=list(target_euler))
         frame = spec.worldbody.add_frame(pos=list(worker_pos), euler=[0.0, 0.0, yaw])
-        frame.attach_body(subject.spec(keyframe=None).body("human_pelvis"), "", "")
+        frame.attach_body(subject.spec(keyframe=None).body("human_base"), "", "")
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", UserWarning)  # empty attach prefix: the canonical joint names
             self.model = spec.compile()

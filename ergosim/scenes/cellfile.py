@@ -53,7 +53,7 @@ _TOP = {"name": "str", "description": "str", "timestep": "float", "seat_toleranc
         "grasp_tolerance": "float"}
 _TABLES = ("aliases", "worker", "robots", "furniture", "parts", "targets", "actions", "views", "safety")
 _WORKER = {"name": "str", "xy": ("floats", 2), "yaw": "float", "hand": "str", "stature": "float",
-           "human_scale": "pairs"}
+           "human_scale": "pairs", "standing_area": ("floats", 4), "max_turn": "float"}
 _ROBOT = {"model": "str", "base": ("floats", 3), "yaw": "float", "support": "str"}
 _FURNITURE = {
     "table": {"type": "str", "center": ("floats", 2), "size": ("floats", 2), "height": "float",

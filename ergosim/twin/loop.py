@@ -16,7 +16,7 @@ import numpy as np
 
 from ergosim.ergonomics.risk_index import KWearIndex
 from ergosim.errors import ModelError
-from ergosim.posture import KWEAR_JOINTS
+from ergosim.posture import KWEAR_JOINTS, STANCE
 from ergosim.twin.records import TICK_COLUMNS, TickLog
 from ergosim.twin.worker_track import WorkerTrack
 
@@ -30,6 +30,7 @@ _REST_CHUNK = 5.0
 _SCORES = slice(TICK_COLUMNS.index("acting"), TICK_COLUMNS.index("rula_grand") + 1)
 _KWEAR = slice(TICK_COLUMNS.index(f"kwear_{KWEAR_JOINTS[0]}"),
                TICK_COLUMNS.index(f"kwear_{KWEAR_JOINTS[-1]}") + 1)
+_STANCE = slice(TICK_COLUMNS.index(STANCE[0]), TICK_COLUMNS.index(STANCE[-1]) + 1)
 
 
 class Plant:
@@ -126,6 +127,7 @@ class Plant:
         row[1] = self.time
         row[_SCORES] = seg.scores[k]
         row[_KWEAR] = self.kwear.value
+        row[_STANCE] = seg.stance[k]
         self.log.append(row)
         if self.record_bodies:
             self.body_pos.append(self.data.xpos.copy())

@@ -10,7 +10,9 @@ from ergosim.worker.ergonomics_tick import (
     score_frames,
     tick_indices,
 )
-from ergosim.worker.ik import IKPrior, IKSolution, UpperBodyIK, default_prior, log_so3
+from ergosim.worker.ik import IKSolution, WholeBodyIK, log_so3
+from ergosim.worker.ik_prior import BODY, IKPrior, default_prior
+from ergosim.worker.stance import StandingArea
 from ergosim.worker.minimum_jerk import interpolate_keyframes, min_jerk, min_jerk_velocity
 from ergosim.worker.motion import ActionMotion, Phase, SceneView, Worker
 from ergosim.worker.refusal import RefusalModel
@@ -25,7 +27,9 @@ __all__ = [
     "save_bvh",
     "IKPrior",
     "IKSolution",
-    "UpperBodyIK",
+    "WholeBodyIK",
+    "BODY",
+    "StandingArea",
     "default_prior",
     "log_so3",
     "ActionTiming",
