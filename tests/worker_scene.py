@@ -12,7 +12,8 @@ class PointScene:
     """``body_pose``/``site_pose`` over a compiled scene (the worker's SceneView), plus the model/data."""
 
     def __init__(self, subject, part_pos, target_pos, worker_pos=(0.0, 0.0, 0.0), yaw=0.0,
-                 target_euler=(0.0, 0.0, 0.0)) -> None:
+                 target_euler=(0.0, 0.0, 0.0), standing_area=None) -> None:
+        self.standing_area = standing_area  # None: the worker's default (one step either way, nothing in the way)
         spec = mujoco.MjSpec()
         body = spec.worldbody.add_body(name="part", pos=list(part_pos))
         body.add_freejoint()

@@ -40,6 +40,8 @@ _IDX = {n: i for i, n in enumerate(BODY)}
 _N = len(HUMAN_JOINTS)
 _KNEE = _IDX["knee_flexion"]
 _SLIDES = (_IDX["pelvis_x"], _IDX["pelvis_y"])
+_TOL_COST = 1e-5  # converged when an iteration lowers the cost by less than this fraction
+_LM_START, _LM_TRIES = 1e-4, 8  # Levenberg-Marquardt damping: first value, increases by 10 before giving up
 _REACH_RETRY = 0.005  # m: a free-stance solve this far from its target also starts from the planted one
 _TURN_START = 45.0  # deg of a target's azimuth the head and eyes take before a solve starts turned
 _GAZE_HUBER = math.radians(10.0)  # beyond this the gaze error costs linearly: a target behind the worker
@@ -47,12 +49,15 @@ _GAZE_HUBER = math.radians(10.0)  # beyond this the gaze error costs linearly: a
 
 
 class IKSolution(NamedTuple):
-    """Result of one solve: (26,) body [deg, m], residual position error [m] and rotation error [deg]."""
+    """Result of one solve: (26,) body [deg, m], residual position error [m] and rotation error [deg],
+    iterations, and the posture's cost (priors, gaze and knees: what the worker avoids, in units of one
+    neutral-zone edge)."""
 
     body: np.ndarray
     pos_error: float
     rot_error_deg: float
     iterations: int
+    cost: float = float("nan")
 
     @property
     def angles(self) -> np.ndarray:
@@ -189,6 +194,14 @@ class _Task:
         return float(prob.w2 @ (d * d) + prob.wc2 * (viol @ viol) + prob.wg2 * _huber(gex).sum()
                      + prob.knee_terms(qa)[0] + task)
 
+    def posture_cost(self, qa: np.ndarray) -> float:
+        """The cost without the hand task, at ``qa`` (the kinematics must be at ``qa``)."""
+        prob = self.prob
+        d = qa - prob.pref
+        viol = prob.violation(qa)
+        return float(prob.w2 @ (d * d) + prob.wc2 * (viol @ viol) + prob.wg2 * _huber(self.gaze()[0]).sum()
+                     + prob.knee_terms(qa)[0])
+
     def descend(self, q: np.ndarray, max_iter: int) -> tuple[np.ndarray, float, int]:
         """Gauss-Newton from ``q`` (solver units, full vector): (the end, its cost, iterations)."""
         prob, act = self.prob, self.act
@@ -197,6 +210,7 @@ class _Task:
         mujoco.mj_comPos(self.ik.model, self.ik.data)
         gex, gjac = self.gaze()
         c0 = self.cost(qa, gex)
+        mu = _LM_START
         it = 0
         for it in range(1, max_iter + 1):
             self._task()
@@ -205,25 +219,29 @@ class _Task:
             _, kg, kh = prob.knee_terms(qa)
             # Huber weights (iteratively reweighted): a large gaze error pulls with a bounded force
             wg = prob.wg2 * np.minimum(1.0, _GAZE_HUBER / np.maximum(np.abs(gex), 1e-12))
-            hess = (np.diag(prob.w2 + prob.wc2 * (viol != 0.0) + kh * prob.knee) + (gjac.T * wg) @ gjac
+            hess = (np.diag(prob.w2 + prob.wc2 * (viol != 0.0) + 0.5 * kh * prob.knee) + (gjac.T * wg) @ gjac
                     + (self.a.T * self.wt) @ self.a)
-            grad = (prob.w2 * d + prob.wc2 * viol + gjac.T @ (wg * gex) + kg * prob.knee
+            grad = (prob.w2 * d + prob.wc2 * viol + gjac.T @ (wg * gex) + 0.5 * kg * prob.knee
                     - self.a.T @ (self.wt * self.err))
-            step = _bounded_step(hess, grad, qa, prob.lo, prob.hi)
-            for _ in range(6):
+            # Levenberg-Marquardt: a step that raises the cost is retried with more damping (towards a
+            # scaled gradient step), a step that lowers it relaxes the damping
+            scale = np.diag(hess).copy()
+            for _ in range(_LM_TRIES):
+                step = _bounded_step(hess + np.diag(mu * scale), grad, qa, prob.lo, prob.hi)
                 self._kinematics(qa + step)
                 gex, gjac = self.gaze()
                 c1 = self.cost(qa + step, gex)
                 if c1 < c0:
+                    mu = max(mu * 0.1, _LM_START)
                     break
-                step *= 0.5
+                mu *= 10.0
             if c1 >= c0:
                 # no step lowers the cost: converged (a joint on the edge of its comfort box, where the
                 # quadratic model switches on and off, would cycle about it), or at the best approach
                 self._kinematics(qa)
                 break
-            qa, c0 = qa + step, c1
-            if np.abs(step).max() < 1e-4:
+            qa, c0, fell = qa + step, c1, c0 - c1
+            if np.abs(step).max() < 1e-4 or fell < _TOL_COST * (1.0 + c1):
                 break
         out = q.copy()
         out[act] = qa
@@ -237,14 +255,14 @@ class WholeBodyIK:
     thread-safe: owns one MjData.
     """
 
-    def __init__(self, model: mujoco.MjModel, prior: IKPrior | None = None, pos_tol: float = 5e-4,
+    def __init__(self, model: mujoco.MjModel, prior: IKPrior | None = None, pos_tol: float = 2e-3,
                  max_iter: int = 80) -> None:
         self.model = model
         self.data = mujoco.MjData(model)
         self.human = HumanModel(model)
         self.prior = prior if prior is not None else default_prior()
         self.s_pos = pos_tol
-        self.s_rot = math.radians(0.5)
+        self.s_rot = math.radians(2.0)
         self.max_iter = max_iter
         stance = [_IDX[n] for n in STANCE]
         self.active = {
@@ -313,9 +331,11 @@ class WholeBodyIK:
         task = _Task(self, side, np.asarray(target, dtype=float), target_rot,
                      np.asarray(target if gaze is None else gaze, dtype=float), act, prob)
         starts = [q0]
-        turned = self._turned_towards(q0, target, area)
-        if turned is not q0:
-            starts.append(turned)
+        if not area.is_planted:
+            home = q0.copy()
+            home[_N:_N + 3] = 0.0  # the worker's own spot
+            turned = self._turned_towards(home, target, area)
+            starts += [s for s in (home, turned) if not np.array_equal(s, q0)]
         best = None
         for start in starts:
             q = self.to_solver(start)
@@ -332,8 +352,9 @@ class WholeBodyIK:
             if end[1] < best[1]:
                 q, _, it = end
             self._fk(q)
+        mujoco.mj_comPos(self.model, self.data)
         pos_err, rot_err = task.errors()
-        return IKSolution(self.to_body(q), pos_err, rot_err, it)
+        return IKSolution(self.to_body(q), pos_err, rot_err, it, task.posture_cost(q[act]))
 
     def _turned_towards(self, body: np.ndarray, point: np.ndarray, area: StandingArea) -> np.ndarray:
         """``body`` with the stance turned towards ``point`` by what neck and eyes do not take

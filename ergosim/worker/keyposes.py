@@ -7,10 +7,11 @@ the target (the IK's stance is free within the standing area there) and keeps th
 and the retreat (people do not step during a final approach): the step and the turn happen while the hand
 travels, rest -> part and part -> target, and back home on the return.
 
-The hand keeps its grip's orientation at the target when it can (a 6-D solve). When it cannot (a profile
-lying flat on a table, to be stood upright in a hollow), the part is reoriented in the hand on the way
-(MTM-1 Turn, and a Regrasp past 90 deg, :mod:`ergosim.worker.action_timing`): the place pose is then a
-position-only solve and ``regrasp_deg`` is the rotation the fingers give the part.
+The hand keeps its grip's orientation at the target (a 6-D solve) unless turning the part in the hand
+spares the worker more than :data:`REGRASP_COST`, or keeping it is out of reach (a profile lying flat on a table, to be
+stood upright in a hollow): the part is then reoriented in the hand on the way (MTM-1 Turn, and a Regrasp
+past 90 deg, :mod:`ergosim.worker.action_timing`), the place pose is a position-only solve and
+``regrasp_deg`` is the rotation the fingers give the part.
 """
 
 from __future__ import annotations
@@ -31,6 +32,9 @@ APPROACH_UP = 0.06
 """m above the part or target before the final approach (assumed)."""
 APPROACH_BACK = 0.04
 """m towards the acting shoulder before the final approach (assumed)."""
+REGRASP_COST = 1.0
+"""Posture cost (units of one neutral-zone edge, :mod:`ergosim.worker.ik_prior`) a worker accepts to keep
+the grip rather than turn the part in the hand (assumed: one unit)."""
 PLACE_TOL = 0.005
 """m: a keep-the-grip place pose worse than this falls back to position-only with a regrasp."""
 
@@ -57,11 +61,15 @@ def approach_point(ik: WholeBodyIK, point: np.ndarray, body: np.ndarray, shoulde
 
 def plan_keyposes(ik: WholeBodyIK, rest: np.ndarray, part: tuple[np.ndarray, np.ndarray],
                   target: tuple[np.ndarray, np.ndarray], prior: IKPrior, area: StandingArea,
-                  side: str) -> KeyPoses:
+                  side: str, grip: np.ndarray | None = None) -> KeyPoses:
     """Key bodies for moving a part at ``part`` (position (3,), rotation (3, 3)) onto ``target`` (the same),
-    both in the IK model's frame, starting and ending at ``rest`` (26,)."""
+    both in the IK model's frame, starting and ending at ``rest`` (26,). ``grip`` (3,): where the hand takes
+    the part, in the part's frame (None: its origin)."""
     part_pos, part_rot = part
     tgt_pos, tgt_rot = target
+    grip = np.zeros(3) if grip is None else np.asarray(grip, dtype=float)
+    grip_pos = part_pos + part_rot @ grip  # where the hand closes
+    grip_tgt = tgt_pos + tgt_rot @ grip  # where that point of the part ends
     shoulder = ik.model.body(ik.human.shoulder_body[side]).name
     planted = StandingArea.planted()
 
@@ -70,9 +78,9 @@ def plan_keyposes(ik: WholeBodyIK, rest: np.ndarray, part: tuple[np.ndarray, np.
         return ik.solve(q0, point, side, target_rot=rot, gaze=look, prior=prior, area=where,
                         max_iter=max_iter)
 
-    grasp = solve(rest, part_pos, part_pos, where=area)
-    above_part = approach_point(ik, part_pos, grasp.body, shoulder)
-    lift = solve(grasp.body, above_part, part_pos)
+    grasp = solve(rest, grip_pos, grip_pos, where=area)
+    above_part = approach_point(ik, grip_pos, grasp.body, shoulder)
+    lift = solve(grasp.body, above_part, grip_pos)
     lifted = solve(lift.body, above_part, tgt_pos)  # the hand stays, the head turns to the target
     hand_p, hand_r = ik.hand_pose(grasp.body, side)
     part_in_hand = hand_r.T @ (part_pos - hand_p)
@@ -80,15 +88,14 @@ def plan_keyposes(ik: WholeBodyIK, rest: np.ndarray, part: tuple[np.ndarray, np.
     # where the hand must be for the part to sit on the target, keeping the grip
     place_rot = tgt_rot @ rot_in_hand.T
     place_pos = tgt_pos - place_rot @ part_in_hand
-    place = solve(lifted.body, place_pos, tgt_pos, place_rot, where=area, max_iter=40)
-    keep_grip = place.pos_error <= PLACE_TOL
-    regrasp = 0.0
-    if not keep_grip:
-        place = solve(lifted.body, tgt_pos, tgt_pos, where=area)
-        _, hand_r5 = ik.hand_pose(place.body, side)
-        regrasp = float(np.rad2deg(np.linalg.norm(log_so3(tgt_rot @ (hand_r5 @ rot_in_hand).T))))
-        place = place._replace(rot_error_deg=regrasp)
-    above_tgt = approach_point(ik, place_pos if keep_grip else tgt_pos, place.body, shoulder)
+    kept = solve(lifted.body, place_pos, tgt_pos, place_rot, where=area, max_iter=40)
+    turned = solve(lifted.body, grip_tgt, tgt_pos, where=area)
+    _, hand_r5 = ik.hand_pose(turned.body, side)
+    turn_deg = float(np.rad2deg(np.linalg.norm(log_so3(tgt_rot @ (hand_r5 @ rot_in_hand).T))))
+    # the worker keeps the grip unless turning the part in the hand spares more than a neutral zone's worth
+    keep_grip = kept.pos_error <= PLACE_TOL and kept.cost <= turned.cost + REGRASP_COST
+    place, regrasp = (kept, 0.0) if keep_grip else (turned._replace(rot_error_deg=turn_deg), turn_deg)
+    above_tgt = approach_point(ik, place_pos if keep_grip else grip_tgt, place.body, shoulder)
     retreat = solve(place.body, above_tgt, tgt_pos)
     down = retreat
     if keep_grip:  # lowering onto the target keeps the grip's orientation where that converges quickly

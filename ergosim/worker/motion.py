@@ -99,6 +99,26 @@ def _quat_to_mat(quat: np.ndarray) -> np.ndarray:
     return m.reshape(3, 3)
 
 
+def _grip(scene: SceneView, part: str, part_pos_w: np.ndarray, part_rot: np.ndarray, r_frame: np.ndarray,
+          tgt_rot: np.ndarray) -> np.ndarray | None:
+    """Where the hand takes a part that goes down into an upper hollow: by its upper end, the end that
+    stays out, to push it home from above (the part's ``<part>_grasp_end`` site, as a robot takes a
+    standing profile); None (its middle) for any other insertion or a part without that site."""
+    try:
+        end_w, _ = scene.site_pose(f"{part}_grasp_end")
+    except (KeyError, ValueError):
+        return None
+    offset = part_rot.T @ (r_frame.T @ (np.asarray(end_w, dtype=float) - np.asarray(part_pos_w, dtype=float)))
+    length = float(np.linalg.norm(offset))
+    if length < 1e-6 or (tgt_rot @ offset)[2] / length < UPRIGHT_COS:
+        return None
+    return offset
+
+
+UPRIGHT_COS = 0.9
+"""A part stands upright at its target when its grip end points within 26 deg of straight up."""
+
+
 class Worker:
     """Plans actions for one subject. ``rate``: mocap rate of the produced trajectories [Hz]."""
 
@@ -122,8 +142,11 @@ class Worker:
         return np.asarray(pos, dtype=float), _quat_to_mat(quat)
 
     def standing_area(self, scene: SceneView) -> StandingArea:
-        """Where the worker may stand in ``scene``: the cell's standing area (a scene without a cell
-        description: one step either way and a 90 deg turn, nothing in the way)."""
+        """Where the worker may stand in ``scene``: its ``standing_area`` if it gives one, else the cell's
+        (a scene without a cell description: one step either way and a 90 deg turn, nothing in the way)."""
+        given = getattr(scene, "standing_area", None)
+        if isinstance(given, StandingArea):
+            return given
         config = getattr(scene, "config", None)
         if self._area is None or self._area[0] is not config:
             area = (area_from_footprints((), self.subject.stature) if config is None
@@ -153,11 +176,12 @@ class Worker:
         part_pose = (r_frame.T @ (np.asarray(part_pos_w) - origin), r_frame.T @ _quat_to_mat(part_quat_w))
         tgt_pose = (r_frame.T @ (np.asarray(tgt_pos_w) - origin), r_frame.T @ _quat_to_mat(tgt_quat_w))
         prior = self.subject.prior().jittered(rng, self.subject.variability_deg)
+        seats = getattr(geometry, "seats", kind in ("insert", "fasten"))
+        grip = _grip(scene, part, part_pos_w, part_pose[1], r_frame, tgt_pose[1]) if seats else None
         keys = plan_keyposes(self.ik, self.rest_body, part_pose, tgt_pose, prior, self.standing_area(scene),
-                             self.side)
+                             self.side, grip)
         bodies = keys.bodies
         hands = self.ik.hand_path(bodies, self.side)
-        seats = getattr(geometry, "seats", kind in ("insert", "fasten"))
         timing = action_timing(hands, seats=seats, handover=handover,
                                turn_time=getattr(geometry, "turn_time", 0.0), stances=bodies[:, _N:],
                                regrasp_deg=keys.regrasp_deg)
