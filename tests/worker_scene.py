@@ -13,7 +13,7 @@ class PointScene:
 
     def __init__(self, subject, part_pos, target_pos, worker_pos=(0.0, 0.0, 0.0), yaw=0.0,
                  target_euler=(0.0, 0.0, 0.0), standing_area=None) -> None:
-        self.standing_area = standing_area  # None: the worker's default (one step either way, nothing in the way)
+        self.standing_area = standing_area  # None: the worker's default (one step either way, no furniture)
         spec = mujoco.MjSpec()
         body = spec.worldbody.add_body(name="part", pos=list(part_pos))
         body.add_freejoint()

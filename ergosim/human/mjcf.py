@@ -118,7 +118,8 @@ def humanoid_xml(s: Segments, model_name: str = "humanoid_upper", keyframe: str 
     h = s.stature
     hip_y = 0.55 * s.hip_half_width
     sh_z = s.lumbar_to_c7 - s.c7_to_shoulder
-    drop_max = (s.thigh + s.shank) * (1.0 - math.cos(math.radians(0.5 * joint_spec("knee_flexion").range_deg[1])))
+    knee_max = math.radians(joint_spec("knee_flexion").range_deg[1])
+    drop_max = (s.thigh + s.shank) * (1.0 - math.cos(0.5 * knee_max))
     lines = [
         f'<mujoco model="{model_name}">',
         '  <compiler angle="radian" autolimits="true"/>',

@@ -103,7 +103,8 @@ class MocapHuman(HumanReadout):
         return kd
 
     def pose(self, data: mujoco.MjData, qpos: np.ndarray, qvel: np.ndarray | None = None) -> None:
-        """Set the 22 angles [rad] (or a (26,) body vector with the stance): forward kinematics of the articulated model, then the segments' world
+        """Set the 22 angles [rad] (or a (26,) body vector with the stance): forward kinematics of the
+        articulated model, then the segments' world
         poses into ``data.mocap_pos``/``mocap_quat`` (in effect from the next ``mj_step``/``mj_kinematics``).
         ``qvel`` is accepted for the same call as :meth:`HumanModel.pose` and unused: mocap bodies have no
         velocity state."""

@@ -33,7 +33,8 @@ def human_spec(stature: float = 1.75, scale: Mapping[str, float] | None = None,
     """MjSpec of the human upper body for ``stature`` [m] with optional per-segment multipliers.
 
     The root body ``human_base`` has no joint: attach it to a frame on the floor at the worker's position
-    (facing +x of that frame). The pelvis above it carries the stance joints (:data:`ergosim.posture.STANCE`). Pass ``keyframe=None`` when
+    (facing +x of that frame). The pelvis above it carries the stance joints (:data:`ergosim.posture.STANCE`).
+    Pass ``keyframe=None`` when
     attaching into a scene that defines its own ``home`` keyframe.
     """
     return mujoco.MjSpec.from_string(humanoid_xml(segment_lengths(stature, scale), keyframe=keyframe))
@@ -104,7 +105,8 @@ class HumanModel(HumanReadout):
         self.shoulder_body = {side: self._id(mujoco.mjtObj.mjOBJ_BODY, n)
                               for side, n in SHOULDER_BODIES.items()}
         self.pelvis_body = self._id(mujoco.mjtObj.mjOBJ_BODY, PELVIS_BODY)
-        self.stance_qadr = np.array([model.jnt_qposadr[self._id(mujoco.mjtObj.mjOBJ_JOINT, n)] for n in STANCE])
+        self.stance_qadr = np.array([model.jnt_qposadr[self._id(mujoco.mjtObj.mjOBJ_JOINT, n)]
+                                     for n in STANCE])
         self.legs = Legs(model)
 
     def _id(self, kind: mujoco.mjtObj, name: str) -> int:

@@ -9,7 +9,8 @@ a point, by sequential quadratic programming on a regularised least-squares prob
 
 The hand task has tiny tolerances (s_p = 0.5 mm, s_R = 0.5 deg), so the posture priors
 (:mod:`ergosim.worker.ik_prior`) and the gaze act in its null space; a target beyond reach ends at the best
-approach. Each iteration is a Gauss-Newton step with a line search on the cost. The gaze (:mod:`ergosim.worker.gaze`) is what the eyes cannot take: the neck, the
+approach. Each iteration is a Levenberg-Marquardt step on the cost. The gaze (:mod:`ergosim.worker.gaze`)
+is what the eyes cannot take: the neck, the
 trunk and the stance share it by their priors, so a target far to the side turns the head, then the trunk
 and the body, and a near, low one flexes the neck. The stance (pelvis step and turn, knee flexion) moves
 within the standing area it is given (:mod:`ergosim.worker.stance`); a planted area keeps the feet where they
@@ -139,8 +140,8 @@ class _Task:
 
     def __init__(self, ik: WholeBodyIK, side: str, target: np.ndarray, target_rot: np.ndarray | None,
                  look: np.ndarray, act: np.ndarray, prob: _Problem) -> None:
-        self.ik, self.target, self.target_rot, self.look, self.act, self.prob = ik, target, target_rot, look, \
-            act, prob
+        self.ik, self.target, self.target_rot, self.look = ik, target, target_rot, look
+        self.act, self.prob = act, prob
         data = ik.data
         self.site, self.eye_site = ik.human.hand_site[side], ik.human.eye_site
         self.xpos, self.xmat = data.site_xpos[self.site], data.site_xmat[self.site].reshape(3, 3)

@@ -116,7 +116,8 @@ def rotated_footprint(centre_w: np.ndarray, half_w: np.ndarray, yaw_deg: float, 
     rel = np.asarray(centre_w, dtype=float) - np.asarray(origin_w, dtype=float)
     c = np.array([math.cos(f) * rel[0] + math.sin(f) * rel[1], -math.sin(f) * rel[0] + math.cos(f) * rel[1]])
     hx, hy = half_w
-    half = np.array([abs(math.cos(a)) * hx + abs(math.sin(a)) * hy, abs(math.sin(a)) * hx + abs(math.cos(a)) * hy])
+    ca, sa = abs(math.cos(a)), abs(math.sin(a))
+    half = np.array([ca * hx + sa * hy, sa * hx + ca * hy])
     return c, half
 
 
@@ -131,8 +132,8 @@ def area_of_cell(spec, stature: float) -> StandingArea:
     if w.standing_area is not None:
         x0, x1, y0, y1 = (float(v) for v in w.standing_area)
         if not (x0 <= 0.0 <= x1 and y0 <= 0.0 <= y1):
-            raise ConfigError(f"standing_area {w.standing_area} must contain the worker's spot: x_min <= 0 <= "
-                              "x_max and y_min <= 0 <= y_max", where="worker.standing_area")
+            raise ConfigError(f"standing_area {w.standing_area} must contain the worker's spot: "
+                              "x_min <= 0 <= x_max and y_min <= 0 <= y_max", where="worker.standing_area")
         return StandingArea((x0, x1), (y0, y1), (-turn, turn))
     low, high = KNEE_FRACTION * stature, SHOULDER_FRACTION * stature
     feet = [rotated_footprint(c[:2], h[:2], 0.0, w.xy, w.yaw)
