@@ -9,9 +9,9 @@ travels, rest -> part and part -> target, and back home on the return.
 
 The hand keeps its grip's orientation at the target (a 6-D solve) unless turning the part in the hand
 spares the worker more than :data:`REGRASP_COST`, or keeping it is out of reach (a profile lying flat on
-a table, to be stood upright in a hollow): the part is then reoriented in the hand on the way (MTM-1 Turn, and a Regrasp
-past 90 deg, :mod:`ergosim.worker.action_timing`), the place pose is a position-only solve and
-``regrasp_deg`` is the rotation the fingers give the part.
+a table, to be stood upright in a hollow): the part is then reoriented in the hand on the way (MTM-1
+Turn, and a Regrasp past 90 deg, :mod:`ergosim.worker.action_timing`), the place pose is a position-only
+solve and ``regrasp_deg`` is the rotation the fingers give the part.
 """
 
 from __future__ import annotations
