@@ -128,7 +128,7 @@ def make_allocator(scenario: Scenario, mode_name: str, rig: Rig, calibration) ->
     index = cost = None
     if mode.risk_index is not None:
         index, cost = get_risk_index(mode.risk_index).build(IndexContext(cfg, rig.plant.kwear, calibration))
-    return Allocator(rig.graph, mode, index=index, cost=cost, planner=cfg.planner)
+    return Allocator(rig.graph, mode, index=index, cost=cost, planner=cfg.planner, tie=cfg.tie_break)
 
 
 def _session(scenario: Scenario, index: int, subject: Subject, mode: str, rng: np.random.Generator,

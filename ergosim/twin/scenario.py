@@ -15,6 +15,7 @@ import dataclasses
 from typing import Literal
 
 from ergosim.errors import ConfigError
+from ergosim.planner.tie_break import TIE_RULES
 from ergosim.robot.trajectory import CONTACT_SPEED, TRANSIT_SPEED
 from ergosim.twin.modes import mode_names
 
@@ -71,6 +72,9 @@ class ScenarioConfig:
     """Multiplier of each subject's sensor noise (drifting bias and white noise): 0 none, 1 the subject's."""
     dropout_rate: float = 0.0
     planner: Literal["fast", "paper"] = "fast"
+    tie_break: Literal["costliest-first", "task-order", "cheapest-first"] = "costliest-first"
+    """Which ready action of an optimal plan goes first when plans of equal cost differ only in their order
+    (ergosim.planner.tie_break): ``costliest-first`` is what the paper's Algorithm 1 returns."""
     female_fraction: float = 2.0 / 12.0
     """Share of women among the synthetic subjects: §7.2's cohort, "2 females and 10 males"."""
     pace: float = 1.0
@@ -135,6 +139,8 @@ class ScenarioConfig:
         need(0 <= self.female_fraction <= 1, f"female_fraction must be in [0, 1], got {self.female_fraction}")
         need(0.1 <= self.pace <= 2.0, f"pace must be in [0.1, 2] (1 = MTM-1 standard performance), "
              f"got {self.pace}")
+        need(self.tie_break in TIE_RULES, f"tie_break must be one of {', '.join(TIE_RULES)}, "
+             f"got {self.tie_break!r}")
         need(self.execution in ("sequential", "parallel"),
              f"execution must be sequential or parallel, got {self.execution!r}")
         need(self.w_time >= 0, f"w_time must be >= 0 (cost per second), got {self.w_time}")
