@@ -73,11 +73,12 @@ def optimal_next_steps(graph: AndOrGraph, done: Iterable[str], costs=None, prune
     return best, out
 
 
-def next_step(graph: AndOrGraph, done: Iterable[str], costs=None, pruned=(), planner: str = "fast", added=None,
-              rule: str = PAPER_TIE_RULE) -> PlanStep | None:
+def next_step(graph: AndOrGraph, done: Iterable[str], costs=None, pruned=(), planner: str = "fast",
+              added=None, rule: str = PAPER_TIE_RULE) -> PlanStep | None:
     """The step to dispatch now under tie ``rule`` (:data:`TIE_RULES`); None when the assembly is complete."""
     if rule not in TIE_RULES:
-        raise ConfigError(f"unknown tie rule {rule!r}; expected one of {', '.join(TIE_RULES)}", where="tie_break")
+        raise ConfigError(f"unknown tie rule {rule!r}; expected one of {', '.join(TIE_RULES)}",
+                          where="tie_break")
     best, candidates = optimal_next_steps(graph, done, costs, pruned, planner, added)
     if not candidates:
         return best.next

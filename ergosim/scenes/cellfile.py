@@ -536,10 +536,12 @@ def _check_actions(spec: CellSpec, at) -> None:
                         else "a place target on a surface (on, xy, part)")
                 raise ConfigError(f"a {a.kind} action goes to {what}; {a.target!r} is not one (those are: "
                                   f"{', '.join(of_kind) or 'none'})", where=at(f"{entry}.target"))
-        if a.handover is not None and (a.handover not in targets or targets[a.handover].kind != "free"):
+        presents = a.handover is not None and a.handover == a.target  # the robot presents it at its target
+        if a.handover is not None and not presents and (a.handover not in targets
+                                                        or targets[a.handover].kind != "free"):
             raise ConfigError(f"unknown handover pose {a.handover!r}; free targets: "
-                              f"{', '.join(n for n, t in targets.items() if t.kind == 'free') or 'none'}",
-                              where=at(f"{entry}.handover"))
+                              f"{', '.join(n for n, t in targets.items() if t.kind == 'free') or 'none'}, or "
+                              f"the action's own target {a.target!r}", where=at(f"{entry}.handover"))
         if kind.holds and not a.turn_time > 0:
             raise ConfigError(f"a {a.kind} action needs turn_time > 0 s", where=at(f"{entry}.turn_time"))
         if not kind.holds and a.turn_time:

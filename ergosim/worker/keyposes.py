@@ -51,6 +51,17 @@ class KeyPoses:
     regrasp_deg: float
 
 
+STRAIGHT_IN = (0.12, 10.0)
+"""A part this close to its target [m] and turned this little from it [deg] (a robot presenting it at the
+target, :data:`ergosim.scenes.cellbuild.PRESENT_STANDOFF`) is pushed straight in."""
+
+
+def _on_its_way_in(part: tuple[np.ndarray, np.ndarray], target: tuple[np.ndarray, np.ndarray]) -> bool:
+    (p, r), (t, rt) = part, target
+    turn = float(np.rad2deg(np.linalg.norm(log_so3(rt @ r.T))))
+    return float(np.linalg.norm(p - t)) <= STRAIGHT_IN[0] and turn <= STRAIGHT_IN[1]
+
+
 def approach_point(ik: WholeBodyIK, point: np.ndarray, body: np.ndarray, shoulder: str) -> np.ndarray:
     """A point :data:`APPROACH_UP` above ``point`` and :data:`APPROACH_BACK` towards the acting shoulder of
     ``body`` (the approach and retreat waypoint)."""
@@ -81,7 +92,11 @@ def plan_keyposes(ik: WholeBodyIK, rest: np.ndarray, part: tuple[np.ndarray, np.
     grasp = solve(rest, grip_pos, grip_pos, where=area)
     above_part = approach_point(ik, grip_pos, grasp.body, shoulder)
     lift = solve(grasp.body, above_part, grip_pos)
-    lifted = solve(lift.body, above_part, tgt_pos)  # the hand stays, the head turns to the target
+    straight_in = _on_its_way_in(part, target)
+    if straight_in:  # held out aligned with its target: pushed straight in, no lift
+        lifted = solve(grasp.body, grip_pos, tgt_pos)
+    else:
+        lifted = solve(lift.body, above_part, tgt_pos)  # the hand stays, the head turns to the target
     hand_p, hand_r = ik.hand_pose(grasp.body, side)
     part_in_hand = hand_r.T @ (part_pos - hand_p)
     rot_in_hand = hand_r.T @ part_rot
@@ -98,7 +113,9 @@ def plan_keyposes(ik: WholeBodyIK, rest: np.ndarray, part: tuple[np.ndarray, np.
     above_tgt = approach_point(ik, place_pos if keep_grip else grip_tgt, place.body, shoulder)
     retreat = solve(place.body, above_tgt, tgt_pos)
     down = retreat
-    if keep_grip:  # lowering onto the target keeps the grip's orientation where that converges quickly
+    if straight_in and keep_grip:
+        down = lifted
+    elif keep_grip:  # lowering onto the target keeps the grip's orientation where that converges quickly
         keep = solve(place.body, above_tgt, tgt_pos, place_rot, max_iter=25)
         if keep.pos_error <= PLACE_TOL:
             down = keep

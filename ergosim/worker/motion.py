@@ -100,17 +100,18 @@ def _quat_to_mat(quat: np.ndarray) -> np.ndarray:
 
 
 def _grip(scene: SceneView, part: str, part_pos_w: np.ndarray, part_rot: np.ndarray, r_frame: np.ndarray,
-          tgt_rot: np.ndarray) -> np.ndarray | None:
-    """Where the hand takes a part that goes down into an upper hollow: by its upper end, the end that
-    stays out, to push it home from above (the part's ``<part>_grasp_end`` site, as a robot takes a
-    standing profile); None (its middle) for any other insertion or a part without that site."""
+          tgt_rot: np.ndarray, handover: bool = False) -> np.ndarray | None:
+    """Where the hand takes a part it inserts: by its outer end, the end that stays out (the part's
+    ``<part>_grasp_end`` site, as a robot takes a standing profile), when the part goes down into an upper
+    hollow (pushed home from above) or the robot holds it out (its gripper holds the middle); None (its
+    middle) for any other insertion or a part without that site."""
     try:
         end_w, _ = scene.site_pose(f"{part}_grasp_end")
     except (KeyError, ValueError):
         return None
     offset = part_rot.T @ (r_frame.T @ (np.asarray(end_w, dtype=float) - np.asarray(part_pos_w, dtype=float)))
     length = float(np.linalg.norm(offset))
-    if length < 1e-6 or (tgt_rot @ offset)[2] / length < UPRIGHT_COS:
+    if length < 1e-6 or (not handover and (tgt_rot @ offset)[2] / length < UPRIGHT_COS):
         return None
     return offset
 
@@ -177,7 +178,7 @@ class Worker:
         tgt_pose = (r_frame.T @ (np.asarray(tgt_pos_w) - origin), r_frame.T @ _quat_to_mat(tgt_quat_w))
         prior = self.subject.prior().jittered(rng, self.subject.variability_deg)
         seats = getattr(geometry, "seats", kind in ("insert", "fasten"))
-        grip = _grip(scene, part, part_pos_w, part_pose[1], r_frame, tgt_pose[1]) if seats else None
+        grip = _grip(scene, part, part_pos_w, part_pose[1], r_frame, tgt_pose[1], handover) if seats else None
         keys = plan_keyposes(self.ik, self.rest_body, part_pose, tgt_pose, prior, self.standing_area(scene),
                              self.side, grip)
         bodies = keys.bodies
