@@ -111,11 +111,13 @@ def _grip(scene: SceneView, part: str, part_pos_w: np.ndarray, part_rot: np.ndar
         return None
     offset = part_rot.T @ (r_frame.T @ (np.asarray(end_w, dtype=float) - np.asarray(part_pos_w, dtype=float)))
     length = float(np.linalg.norm(offset))
-    if length < 1e-6 or (not handover and (tgt_rot @ offset)[2] / length < UPRIGHT_COS):
+    if length < 1e-6 or (not handover and (not UPRIGHT_END_GRIP or (tgt_rot @ offset)[2] / length < UPRIGHT_COS)):
         return None
     return offset
 
 
+UPRIGHT_END_GRIP = True
+"""A profile pushed down into an upper hollow is held by its upper end (False: by its middle)."""
 UPRIGHT_COS = 0.9
 """A part stands upright at its target when its grip end points within 26 deg of straight up."""
 
