@@ -195,7 +195,7 @@ def test_action_grand_score_rules_on_worked_cases():
     # 20 ticks per second: a 6 for 0.5 s, then a 5 for 1.2 s, then a 3 for 3 s
     g = np.array([6.0] * 10 + [5.0] * 24 + [3.0] * 60)
     assert grand_scores_by_rule(g) == {"held-longest": 3.0, "quarter": 5.0, "held-1s": 5.0, "worst": 6.0}
-    assert action_grand_score(np.array([3, 3, 6, 6.0]), "held-longest") == 6.0  # a tie goes to the higher score
+    assert action_grand_score(np.array([3, 3, 6, 6.0]), "held-longest") == 6.0  # a tie: the higher score
     # a dropout breaks a hold; executions are scored apart and their median taken
     broken = np.array([5.0] * 15 + [np.nan] + [5.0] * 15 + [3.0] * 40)
     assert action_grand_score(broken) == 3.0

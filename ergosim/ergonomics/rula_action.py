@@ -48,7 +48,8 @@ def _held(g: np.ndarray, ticks: int) -> float:
     return float(best) if np.isfinite(best) else float("nan")
 
 
-def action_grand_score(grand: np.ndarray | Iterable[np.ndarray], rule: str = G_RULE, dt: float = 0.05) -> float:
+def action_grand_score(grand: np.ndarray | Iterable[np.ndarray], rule: str = G_RULE,
+                       dt: float = 0.05) -> float:
     """G(a_k) from per-tick grand scores: one (n,) array, or several executions' arrays; ``dt`` [s] the tick.
     NaN ticks (mocap dropouts) are ignored; NaN if no tick is valid."""
     if rule not in G_RULES:
@@ -57,7 +58,8 @@ def action_grand_score(grand: np.ndarray | Iterable[np.ndarray], rule: str = G_R
     if not runs:
         return float("nan")
     if rule in ("held-1s", "worst"):
-        per = [_held(g, max(1, int(round(1.0 / dt)))) if rule == "held-1s" else float(np.nanmax(g)) for g in runs]
+        ticks = max(1, int(round(1.0 / dt)))
+        per = [_held(g, ticks) if rule == "held-1s" else float(np.nanmax(g)) for g in runs]
         return float(np.median(per))
     pooled = np.concatenate(runs)
     pooled = pooled[np.isfinite(pooled)]

@@ -1,6 +1,7 @@
 """Which reading of RULA's "standard method" matches the paper's observers in both experiments (issue 23).
 
-G(a_k) scores a whole action from its per-tick grand scores by one rule (:mod:`ergosim.ergonomics.rula_action`).
+G(a_k) scores a whole action from its per-tick grand scores by one rule
+(:mod:`ergosim.ergonomics.rula_action`).
 This module records the subjects' calibration executions, exactly as the twin does for its own G(a_k)
 (:class:`~ergosim.twin.calibration.SceneCalibration`, the subjects of the scenario's population, the mocap
 stream's noise), and scores them under every rule, so that the rules can be compared with §7.1's Table 1

@@ -111,7 +111,8 @@ def _grip(scene: SceneView, part: str, part_pos_w: np.ndarray, part_rot: np.ndar
         return None
     offset = part_rot.T @ (r_frame.T @ (np.asarray(end_w, dtype=float) - np.asarray(part_pos_w, dtype=float)))
     length = float(np.linalg.norm(offset))
-    if length < 1e-6 or (not handover and (not UPRIGHT_END_GRIP or (tgt_rot @ offset)[2] / length < UPRIGHT_COS)):
+    upright = UPRIGHT_END_GRIP and (tgt_rot @ offset)[2] / max(length, 1e-12) >= UPRIGHT_COS
+    if length < 1e-6 or not (handover or upright):
         return None
     return offset
 
