@@ -93,7 +93,7 @@ def sidestep_tmu(distance_m: float) -> float:
     """Sidestep, case 1, of ``distance_m`` [m] [TMU]: 0 under 12 in (the step goes with the hand's Reach or
     Move), else 17.0 TMU at 12 in plus 0.6 TMU per further inch."""
     d_in = max(float(distance_m), 0.0) / INCH_M
-    if d_in < _SIDESTEP_FROM_IN:
+    if d_in < _SIDESTEP_FROM_IN - 1e-9:
         return 0.0
     return BODY_TMU["SS-C1"] + _SIDESTEP_PER_IN * (d_in - _SIDESTEP_FROM_IN)
 
