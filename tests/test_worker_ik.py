@@ -1,4 +1,4 @@
-"""The whole-body IK: legs that follow the knee, the gaze Jacobian, stance within the area, reach everywhere."""
+"""The whole-body IK: legs that follow the knee, the gaze Jacobian, stance within its area, reach."""
 
 from __future__ import annotations
 
