@@ -155,7 +155,8 @@ def test_failed_robot_attempts_do_not_count_as_robot_actions(tmp_path):
 def test_a_run_with_an_abandoned_repetition_exits_3_and_says_why(tmp_path, capsys):
     out = tmp_path / "l"
     code = main(["run", "multi-subject", "--subjects", "1", "--reps", "2", "--mode", "h-only", "--jobs", "1",
-                 "--quiet", "--set", "scene.l_xy=0.72,1.03", "--out", str(out)])
+                 "--quiet", "--set", "scene.l_xy=0.72,1.03", "--set", "scene.worker.standing_area=0,0,0,0",
+                 "--set", "scene.worker.max_turn=0", "--out", str(out)])  # L beyond a planted worker's reach
     printed = capsys.readouterr()
     assert code == 3
     summary = _valid_outputs(out)

@@ -9,9 +9,12 @@ import numpy as np
 import pytest
 
 from ergosim.errors import ConfigError
+from ergosim.posture import KWEAR_JOINTS
 from ergosim.twin.records import TICK_COLUMNS, Allocation, SubjectRun, TickLog
 from ergosim.twin.report import summarise, wilcoxon_between, write_allocations, write_summary, write_ticks
 from ergosim.twin.scenariofile import scenario_config
+
+KWEAR_COLUMNS = [TICK_COLUMNS.index(f"kwear_{j}") for j in KWEAR_JOINTS]
 
 
 def _run(subject: int, mode: str, agents: list[str], kwear_level: float) -> SubjectRun:
@@ -24,7 +27,7 @@ def _run(subject: int, mode: str, agents: list[str], kwear_level: float) -> Subj
     ticks = TickLog(capacity=16)
     for k in range(40):
         row = np.zeros(len(TICK_COLUMNS))
-        row[-5:] = kwear_level
+        row[KWEAR_COLUMNS] = kwear_level
         ticks.append(row)
     return SubjectRun(subject, mode, allocs, ticks, 2, 1, 0.05, 0.8)
 

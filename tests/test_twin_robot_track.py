@@ -57,10 +57,10 @@ def test_a_scenario_file_names_where_a_bad_speed_is(tmp_path):
 
 @pytest.mark.slow
 def test_the_robot_only_assembly_of_the_multi_subject_cell():
-    """Paper §7.2: the robot hands a1-a4 over (the worker inserts each and does a5). At 0.05 m/s in the
-    contact zones and 0.25 m/s in transit each handover takes the robot 9-12 s up to the worker's take;
-    the whole repetition, with the worker's part serial to the robot's, about a minute (it took 144 s at
-    0.05 m/s throughout)."""
+    """Paper §7.2: the robot hands a1-a4 over, presenting each part at its target (the worker pushes it
+    home and does a5). At 0.05 m/s in the contact zones and 0.25 m/s in transit each hand-over takes the
+    robot 8-13 s up to the worker's take; the whole repetition, with the worker's part serial to the
+    robot's, about a minute (it took 144 s at 0.05 m/s throughout)."""
     sc = load_scenario("multi-subject")
     runs = robot_only_runs(sc, 2)
     for run in runs:
@@ -72,7 +72,7 @@ def test_the_robot_only_assembly_of_the_multi_subject_cell():
         assert 45.0 < run.robot_time < 65.0
         assert run.robot_time < run.repetition < 100.0
         # reach, grasp and carry up to the handover pose: the part of the robot's time the worker waits for
-        assert all(6.0 < a.delivery < 12.0 for a in run.actions[:4])
+        assert all(6.0 < a.delivery < 13.0 for a in run.actions[:4])
         assert 0.6 * run.robot_time < run.delivery < 0.8 * run.robot_time
         for a in run.actions[:4]:
             r = a.robot

@@ -28,11 +28,12 @@ ROOT = Path(__file__).resolve().parents[1]
 
 @pytest.fixture(scope="module")
 def recorded(tmp_path_factory):
-    """A real run with a failure in it (L beyond the worker's reach), recorded."""
+    """A real run with a failure in it (L beyond the reach of a worker whose feet stay planted), recorded."""
     out = tmp_path_factory.mktemp("layout")
     rrd = out / "run.rrd"
     assert main(["run", "multi-subject", "--subjects", "1", "--reps", "2", "--mode", "hrc", "--jobs", "1",
-                 "--quiet", "--set", "scene.l_xy=0.14,0.88", "--out", str(out / "out"),
+                 "--quiet", "--set", "scene.l_xy=0.14,0.88", "--set", "scene.worker.standing_area=0,0,0,0",
+                 "--set", "scene.worker.max_turn=0", "--out", str(out / "out"),
                  "--rrd", str(rrd)]) == 0
     return out / "out", rrd
 

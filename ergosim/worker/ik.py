@@ -7,7 +7,7 @@ a point, by sequential quadratic programming on a regularised least-squares prob
            + sum_j ((q_j - pref_j) / s_j)^2 + comfort-box excess^2 / s_c^2 + |gaze excess|^2 / s_g^2,
     q within its ranges and the standing area.
 
-The hand task has tiny tolerances (s_p = 0.5 mm, s_R = 0.5 deg), so the posture priors
+The hand task has tight tolerances (s_p = 2 mm, s_R = 2 deg), so the posture priors
 (:mod:`ergosim.worker.ik_prior`) and the gaze act in its null space; a target beyond reach ends at the best
 approach. Each iteration is a Levenberg-Marquardt step on the cost. The gaze (:mod:`ergosim.worker.gaze`)
 is what the eyes cannot take: the neck, the
