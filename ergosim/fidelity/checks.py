@@ -104,7 +104,7 @@ def _g_rows(section: str, summaries: Sequence[Mapping], target: Mapping[str, int
     within = all(abs(g[a] - target[a]) <= bounds.g_tolerance for a in actions)
     twin = " ".join(f"{g[a]:g}" for a in actions)
     published = " ".join(str(target[a]) for a in actions)
-    rows = [Row(section, "G(a1..a5), RULA (the posture held longest)", published, twin, within,
+    rows = [Row(section, "G(a1..a5), RULA (the worst posture held 1 s)", published, twin, within,
                 f"each within ±{bounds.g_tolerance}")]
     if riskiest is not None:
         top = max(g.values())
