@@ -159,4 +159,5 @@ def test_each_paced_row_says_how_its_repetitions_were_paced():
     g_row = next(r for r in rows.values() if r.figure.startswith("G(a1..a5)") and r.section == "§7.2")
     assert rows["mean HRC repetition [s]"].reading and not g_row.reading
     runs = _runs(ms={s: {**_ms_summary(), "config": {"takt_paced": True}} for s in range(3)})
-    assert {r.reading for r in fidelity_rows(runs, FULL_BOUNDS) if r.reading} == {"every mode at its takt slot"}
+    readings = {r.reading for r in fidelity_rows(runs, FULL_BOUNDS) if r.reading}
+    assert readings == {"every mode at its takt slot"}
