@@ -15,13 +15,61 @@ from collections.abc import Callable, Mapping, Sequence
 
 import numpy as np
 
-from ergosim.ergonomics.rula_action import G_RULES, grand_scores_by_rule
+from ergosim.ergonomics.kwear import alpha_of
+from ergosim.ergonomics.rula_action import G_RULES, grand_scores_by_rule, most_loaded_joint
 from ergosim.fidelity import paper
+from ergosim.posture import KWEAR_JOINTS
 from ergosim.twin.calibration import SceneCalibration
 from ergosim.twin.runner import scenario_subject, subject_cell
 from ergosim.twin.scenariofile import load_scenario
 
-__all__ = ["RuleFit", "g_by_rule", "rule_fits"]
+__all__ = ["RuleFit", "Measured", "measure", "g_by_rule", "rule_fits"]
+
+
+@dataclasses.dataclass(frozen=True)
+class Measured:
+    """What the subjects' calibration executions give: ``g`` rule -> action -> median G(a_k); ``loaded``
+    action -> the joint with the largest 1 - α for most subjects (eq. 9, as summary.json reports it)."""
+
+    g: dict[str, dict[str, float]]
+    loaded: dict[str, str]
+
+
+def measure(scenario: str, seeds: Sequence[int], subjects: int | None = None, passes: int = 3,
+            overrides: Mapping[str, str] | None = None, subject_fields: Mapping[str, float] | None = None,
+            log: Callable[[str], None] = lambda _msg: None) -> Measured:
+    """Record ``passes`` executions of every action (the paper's η = 3) for the scenario's subjects of
+    ``seeds`` and score them. ``subject_fields`` multiply subject fields (e.g. ``{"trunk_use": 2.0}``), a
+    what-if of the worker's style."""
+    sc = load_scenario(scenario, dict(overrides or {}))
+    cfg = sc.protocol
+    n = cfg.subjects if subjects is None else subjects
+    actions = sc.task().actions
+    per_rule: dict[str, dict[str, list[float]]] = {r: {} for r in G_RULES}
+    loaded: dict[str, list[str]] = {a: [] for a in actions}
+    for seed in seeds:
+        for index in range(n):
+            subject = scenario_subject(sc, index, seed)
+            cell = subject_cell(sc, subject)
+            scaled = {k: getattr(subject, k) * f for k, f in (subject_fields or {}).items()}
+            subject = dataclasses.replace(subject, handedness=cell.config.worker.hand, **scaled)
+            rng = np.random.default_rng([seed, index, 23])
+            cal = SceneCalibration.for_subject(cell, subject, rng, mocap_rate=cfg.mocap_rate,
+                                               ergonomics_rate=cfg.ergonomics_rate, actions=actions,
+                                               noise=cfg.noise_scale)
+            cal.execute(actions[0], passes - 1)
+            params = subject.kwear_params()
+            for action in actions:
+                runs = [p[action].grand for p in cal.passes]
+                for rule, g in grand_scores_by_rule(runs, dt=cal.dt_tick).items():
+                    per_rule[rule].setdefault(action, []).append(g)
+                alpha = np.mean([alpha_of(p[action].g, cal.dt_tick, params) for p in cal.passes], axis=0)
+                loaded[action].append(most_loaded_joint(alpha, KWEAR_JOINTS))
+            log(f"{scenario} seed {seed} subject {index}")
+    majority = {a: max(KWEAR_JOINTS, key=lambda j, v=v: (v.count(j), -KWEAR_JOINTS.index(j)))
+                for a, v in loaded.items()}
+    return Measured({r: {a: float(np.median(v)) for a, v in by.items()} for r, by in per_rule.items()},
+                    majority)
 
 
 def g_by_rule(scenario: str, seeds: Sequence[int], subjects: int | None = None, passes: int = 3,
@@ -29,27 +77,7 @@ def g_by_rule(scenario: str, seeds: Sequence[int], subjects: int | None = None, 
               log: Callable[[str], None] = lambda _msg: None) -> dict[str, dict[str, float]]:
     """rule -> action -> the median over the subjects of ``seeds`` of G(a_k) from ``passes`` recorded
     executions each (the paper's η = 3)."""
-    sc = load_scenario(scenario, dict(overrides or {}))
-    cfg = sc.protocol
-    n = cfg.subjects if subjects is None else subjects
-    per_rule: dict[str, dict[str, list[float]]] = {r: {} for r in G_RULES}
-    for seed in seeds:
-        for index in range(n):
-            subject = scenario_subject(sc, index, seed)
-            cell = subject_cell(sc, subject)
-            subject = dataclasses.replace(subject, handedness=cell.config.worker.hand)
-            rng = np.random.default_rng([seed, index, 23])
-            cal = SceneCalibration.for_subject(cell, subject, rng, mocap_rate=cfg.mocap_rate,
-                                               ergonomics_rate=cfg.ergonomics_rate, actions=sc.task().actions,
-                                               noise=cfg.noise_scale)
-            for k in range(passes):
-                cal.execute(sc.task().actions[0], k)
-            for action in sc.task().actions:
-                runs = [p[action].grand for p in cal.passes]
-                for rule, g in grand_scores_by_rule(runs, dt=cal.dt_tick).items():
-                    per_rule[rule].setdefault(action, []).append(g)
-            log(f"{scenario} seed {seed} subject {index}")
-    return {r: {a: float(np.median(v)) for a, v in by.items()} for r, by in per_rule.items()}
+    return measure(scenario, seeds, subjects, passes, overrides, log=log).g
 
 
 @dataclasses.dataclass(frozen=True)
