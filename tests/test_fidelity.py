@@ -130,7 +130,8 @@ def test_piece_distances_scale_about_the_worker_on_their_surface():
 REPRODUCED = (("§7.1", "Table 1, KWear allocation"), ("§7.1", "seeds holding that shape"),
               ("§7.1", "RULA-baseline allocation"), ("§7.2", "robot share of a1-a4"),
               ("§7.2", "a3 and a4 to the robot"), ("§7.2", "mean HRC repetition"),
-              ("§7.2", "H-only repetitions over the takt"), ("§7.2", "robot bringing"), ("§7.2", "G(a1..a5)"))
+              ("§7.2", "H-only repetitions over the takt"), ("§7.2", "robot bringing"), ("§7.2", "G(a1..a5)"),
+              ("§7.2", "riskiest action"))
 """Rows the quick form reproduces with a margin (docs/fidelity.md gives the full form's figures and explains
 every ✗). The quick form is seeded, so these are the same in every run; a change to the twin that breaks one
 of them fails CI."""
