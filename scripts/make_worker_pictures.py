@@ -28,10 +28,11 @@ from ergosim.video.worker_stills import render_action_stills  # noqa: E402
 from ergosim.worker import Worker  # noqa: E402
 
 DEFAULT_OUT = Path(__file__).resolve().parents[1] / "docs" / "img"
-STILLS = {"multi-subject": ("a1", "a2"), "kwear-validation": ("a1", "a5")}
+STILLS = {"multi-subject": (("a1", "a2"), None), "kwear-validation": (("a1", "a5"), "front")}
+"""scenario -> (actions, the cell's camera view; None: its first)"""
 
 
-def _stills(scenario_name: str, actions: tuple[str, ...], seed: int) -> np.ndarray:
+def _stills(scenario_name: str, actions: tuple[str, ...], view: str | None, seed: int) -> np.ndarray:
     scenario = load_scenario(scenario_name)
     subject = scenario_subject(scenario, 0, seed)
     cell = subject_cell(scenario, subject)
@@ -41,7 +42,7 @@ def _stills(scenario_name: str, actions: tuple[str, ...], seed: int) -> np.ndarr
     for name, geom in cell.actions.items():
         if name in actions:
             motion = worker.plan(cell, geom, rng, action=name)
-            rows.append(render_action_stills(cell, motion, geom.target,
+            rows.append(render_action_stills(cell, motion, geom.target, view=view,
                                              title=f"{scenario_name} {name}: {motion.mtm}"))
             cell.reset()
             for done, g in cell.actions.items():  # the scene as the task leaves it before the next action
@@ -62,9 +63,9 @@ def main() -> int:
     p.add_argument("--seed", type=int, default=0)
     a = p.parse_args()
     a.out.mkdir(parents=True, exist_ok=True)
-    for scenario_name, actions in STILLS.items():
+    for scenario_name, (actions, view) in STILLS.items():
         path = a.out / f"worker_{scenario_name.replace('-', '_')}.png"
-        Image.fromarray(_stills(scenario_name, actions, a.seed)).save(path)
+        Image.fromarray(_stills(scenario_name, actions, view, a.seed)).save(path)
         print(f"wrote {path}")
     scenario = load_scenario("multi-subject", {"subjects": "1", "repetitions": "1", "modes": "hrc"})
     run = run_subject(scenario, 0, a.seed, ("hrc",), record_mode="hrc").runs["hrc"]

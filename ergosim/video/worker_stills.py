@@ -35,33 +35,47 @@ def action_moments(motion: ActionMotion) -> list[tuple[str, float]]:
             (f"{fit.name} (fitting)", fit.start + 1e-3)]
 
 
-def _pose_part(cell: Workcell, motion: ActionMotion, k: int, grasp_k: int, part_at_grasp,
-               target: str | None = None) -> None:
-    """Put the part where the hand carries it at frame ``k`` (rigidly since ``grasp_k``), or on ``target``."""
+def _quat_mat(quat: np.ndarray) -> np.ndarray:
+    m = np.empty(9)
+    mujoco.mju_quat2Mat(m, np.asarray(quat, dtype=float))
+    return m.reshape(3, 3)
+
+
+def _set_body(cell: Workcell, body: str, pos: np.ndarray, quat: np.ndarray) -> None:
     m, d = cell.model, cell.data
-    jnt = m.body_jntadr[m.body(motion.part).id]
-    qa = m.jnt_qposadr[jnt]
-    if target is not None:
-        d.qpos[qa:qa + 3], d.qpos[qa + 3:qa + 7] = cell.site_pose(target)
-        return
-    if k < grasp_k:
-        return
-    hand = cell.hand_bodies[f"human_{motion.side}"]
-    h0p, h0q = cell.human.segment_pose_at(motion.angles[grasp_k], hand, motion.stances[grasp_k])
-    hkp, hkq = cell.human.segment_pose_at(motion.angles[k], hand, motion.stances[k])
-    r0, rk = np.empty(9), np.empty(9)
-    mujoco.mju_quat2Mat(r0, h0q)
-    mujoco.mju_quat2Mat(rk, hkq)
-    r0, rk = r0.reshape(3, 3), rk.reshape(3, 3)
-    p0, q0 = part_at_grasp
-    rel_p = r0.T @ (p0 - h0p)
-    qrel, qinv = np.empty(4), np.empty(4)
-    mujoco.mju_negQuat(qinv, h0q)
-    mujoco.mju_mulQuat(qrel, qinv, q0)
-    quat = np.empty(4)
-    mujoco.mju_mulQuat(quat, hkq, qrel)
-    d.qpos[qa:qa + 3] = hkp + rk @ rel_p
+    qa = m.jnt_qposadr[m.body_jntadr[m.body(body).id]]
+    d.qpos[qa:qa + 3] = pos
     d.qpos[qa + 3:qa + 7] = quat
+
+
+def _moved(pose: tuple[np.ndarray, np.ndarray], frm: tuple[np.ndarray, np.ndarray],
+           to: tuple[np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """``pose`` carried rigidly with a frame going from ``frm`` to ``to`` (positions, wxyz quaternions)."""
+    r_from, r_to = _quat_mat(frm[1]), _quat_mat(to[1])
+    pos = to[0] + r_to @ (r_from.T @ (pose[0] - frm[0]))
+    inv, rel, quat = np.empty(4), np.empty(4), np.empty(4)
+    mujoco.mju_negQuat(inv, frm[1])
+    mujoco.mju_mulQuat(rel, inv, pose[1])
+    mujoco.mju_mulQuat(quat, to[1], rel)
+    return pos, quat
+
+
+def _pose_part(cell: Workcell, motion: ActionMotion, k: int, grasp_k: int, at_grasp: dict,
+               target: str | None = None) -> None:
+    """Put the part, with whatever is seated in it, where the hand carries it at frame ``k`` (rigidly since
+    ``grasp_k``), or with the part on ``target``. ``at_grasp``: body -> pose of the assembly at the grasp."""
+    part_pose = at_grasp[motion.part]
+    if target is not None:
+        to = cell.site_pose(target)
+    elif k < grasp_k:
+        return
+    else:
+        hand = cell.hand_bodies[f"human_{motion.side}"]
+        h0 = cell.human.segment_pose_at(motion.angles[grasp_k], hand, motion.stances[grasp_k])
+        hk = cell.human.segment_pose_at(motion.angles[k], hand, motion.stances[k])
+        to = _moved(part_pose, h0, hk)
+    for body, pose in at_grasp.items():
+        _set_body(cell, body, *_moved(pose, part_pose, to))
 
 
 def render_action_stills(cell: Workcell, motion: ActionMotion, target: str, *, view: str | None = None,
@@ -69,7 +83,7 @@ def render_action_stills(cell: Workcell, motion: ActionMotion, target: str, *, v
     """(height + caption, 3 width, 3) uint8: ``motion`` (planned in ``cell`` as it is now) at the three
     :func:`action_moments`, side by side, each captioned; at the last one the part is on its ``target`` site
     (it may have turned in the hand on the way)."""
-    part_at_grasp = cell.body_pose(motion.part)
+    at_grasp = {b: tuple(np.array(x) for x in cell.body_pose(b)) for b in cell.assembly(motion.part)}
     grasp_k = int(np.searchsorted(motion.t, motion.t_grasp))
     _, grand, _ = score_frames(motion.angles)
     tiles = []
@@ -77,7 +91,7 @@ def render_action_stills(cell: Workcell, motion: ActionMotion, target: str, *, v
     for i, (label, t) in enumerate(moments):
         k = min(int(np.searchsorted(motion.t, t)), len(motion.t) - 1)
         cell.human.pose(cell.data, body_qpos(motion.angles[k], motion.stances[k]))
-        _pose_part(cell, motion, k, grasp_k, part_at_grasp, target if i == len(moments) - 1 else None)
+        _pose_part(cell, motion, k, grasp_k, at_grasp, target if i == len(moments) - 1 else None)
         mujoco.mj_kinematics(cell.model, cell.data)
         image = Image.fromarray(render_workcell(cell, width=width, height=height, view=view))
         x, y, turn, knee = motion.stances[k]
