@@ -25,10 +25,12 @@ class Lever:
 
 
 LEVERS = (
-    Lever("nominal", "the worker steps and turns within the cell's area, neck in the IK, ISO 11226 priors"),
+    Lever("nominal", "she turns on her spot without stepping (the cell's standing area), neck in the IK, "
+          "ISO 11226 priors"),
+    Lever("steps and turns", "the clear floor within a step (the default standing area of this cell)",
+          {"scene.worker.standing_area": "-0.33,0.16,-0.23,0.33"}),
     Lever("feet planted", "no step, no turn: the knees and the trunk do what the pelvis does not",
-          {"scene.worker.standing_area": "0,0,0,0", "scene.worker.max_turn": "0"}),
-    Lever("turn only", "the body turns on the spot, no step", {"scene.worker.standing_area": "0,0,0,0"}),
+          {"scene.worker.max_turn": "0"}),
     Lever("trunk prior x2", "the trunk bends and twists twice as readily (trunk_use x 2)",
           subject_fields={"trunk_use": 2.0}),
     Lever("eyes +50 %", "the eyes take half as much more gaze before the head turns (eye_down 20 -> 30 deg)",
