@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from ergosim.errors import ConfigError
+from ergosim.fidelity import handover_wear
 from ergosim.scenes import build_scene
 from ergosim.scenes.cellbuild import PRESENT_STANDOFF, present_site
 from ergosim.twin.calibration import put_part
@@ -73,3 +74,24 @@ def test_the_worker_only_pushes_a_presented_part_home():
     k = int(np.searchsorted(handed.t, handed.t_grasp)) - 1
     assert np.linalg.norm(handed.hand_pos[k] - end) < 0.02
     assert np.isfinite(score_frames(handed.angles)[1]).all()
+
+
+@pytest.fixture(scope="module")
+def wear():
+    return {a: pairs[0] for a, pairs in handover_wear.measure(subjects=1).items()}
+
+
+def test_a_handover_spares_the_worker_the_fetch(wear):
+    """The worker's part of a hand-over scores less than the action alone (∫ Σ G dt, paper eq. 3): about half
+    for J and L, fetched from the side table; S1 lies by the assembly anyway (issue 23: 1.34x before)."""
+    ratio = {a: handed.score_integral / alone.score_integral for a, (alone, handed) in wear.items()}
+    assert ratio["a1"] < 0.7 and ratio["a2"] < 0.7
+    assert ratio["a4"] < 0.9 and ratio["a3"] < 1.1
+    for alone, handed in wear.values():
+        assert handed.duration < alone.duration and handed.alpha_loss <= alone.alpha_loss * 1.1
+
+
+def test_a2_wears_the_worker_most_of_the_free_actions(wear):
+    """a2 (L from the far side table into the upper hollow) predicts the most wear of a2-a4 (eq. 9)."""
+    loss = {a: alone.alpha_loss for a, (alone, _) in wear.items()}
+    assert loss["a2"] > 1.3 * max(loss["a3"], loss["a4"])
