@@ -14,6 +14,7 @@ import pytest
 
 from ergosim.ergonomics.rula import RULA_PARTS
 from ergosim.human.model import body_qpos
+from ergosim.posture import HUMAN_JOINTS
 from ergosim.scenes import build_scene
 from ergosim.twin.calibration import put_part
 from ergosim.worker import Subject, Worker, make_subjects, score_frames
@@ -156,3 +157,18 @@ def test_farther_part_gives_higher_shoulder_or_trunk_scores(workers, who, scene,
         posture = far["upper_arm"] + far["trunk"] > near["upper_arm"] + near["trunk"] + 0.3
         assert posture or far["step"] > near["step"] + 0.03, scores
         assert far["upper_arm"] >= near["upper_arm"] - 0.1 and far["trunk"] >= near["trunk"] - 0.1, scores
+
+
+@pytest.mark.parametrize("who", list(SUBJECTS))
+@pytest.mark.parametrize("action", ["a1", "a2"])
+def test_the_worker_turns_and_steps_to_the_side_table_instead_of_stooping(workers, who, action):
+    """§7.2: J and L lie on the side table at the worker's left. The worker turns its body and steps towards
+    them (MTM-1 Turn Body, Sidestep), with straight knees and an upright trunk, where the first round's worker
+    stooped 90° at the hips with its feet planted (issue 23)."""
+    _, motion = _plan(workers[who], "multi-subject", action)
+    take = motion.t <= motion.phases[1].end
+    stance = motion.stances[take]
+    assert np.abs(stance[:, 2]).max() > 45.0 and "TBC1" in motion.mtm  # the body turns to the table
+    assert np.hypot(stance[:, 0], stance[:, 1]).max() > 0.1  # and steps towards it
+    trunk = motion.angles[take, HUMAN_JOINTS.index("trunk_flexion")]
+    assert trunk.max() < 40.0  # no stoop
