@@ -1,12 +1,14 @@
 """The robot's side of the loop: its two speeds as protocol fields, and the robot-only assembly of §7.2."""
 
+import json
+
 import numpy as np
 import pytest
 
 from ergosim.cli import main
 from ergosim.errors import ConfigError
-from ergosim.robot.status import SKILL_PHASES
-from ergosim.twin.robot_timing import robot_only_runs, timing_summary
+from ergosim.robot.status import SKILL_PHASES, SkillResult, SkillStatus
+from ergosim.twin.robot_timing import ActionTiming, RobotOnlyRun, robot_only_runs, timing_summary
 from ergosim.twin.robot_track import RobotTrack
 from ergosim.twin.runner import build_rig
 from ergosim.twin.scenariofile import load_scenario, scenario_config
@@ -88,3 +90,18 @@ def test_the_robot_only_assembly_of_the_multi_subject_cell():
     summary = timing_summary(runs)
     assert summary["completed"] == 2 and set(summary["actions"]) == {"a1", "a2", "a3", "a4", "a5"}
     assert summary["repetition_mean_s"] == pytest.approx(np.mean([r.repetition for r in runs]))
+
+
+def test_a_robot_action_that_failed_is_counted_not_averaged():
+    """A robot action that never delivered its part (arrival NaN) enters no phase or delivery mean: the
+    summary says how many failed and stays valid JSON (a NaN made the fidelity report crash)."""
+    ok = SkillResult("pick_place", "J", SkillStatus.OK, "", 12.0, phases=(("transit", 8.0), ("contact", 4.0)),
+                     arrival=9.0)
+    failed = SkillResult("pick_place", "L", SkillStatus.UNREACHABLE, "no IK", 3.0, phases=(("transit", 3.0),))
+    actions = (ActionTiming("a1", "robot", "done", 12.5, ok),
+               ActionTiming("a2", "robot", "failed", 3.0, failed),
+               ActionTiming("a5", "human", "done", 3.0, None))
+    summary = timing_summary([RobotOnlyRun(0, "completed", 18.5, actions)])
+    assert summary["robot_failures"] == 1 and summary["delivery_mean_s"] == 9.0
+    assert summary["actions"]["a2"] == {"duration": 3.0}
+    json.dumps(summary, allow_nan=False)
