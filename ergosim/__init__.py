@@ -7,6 +7,10 @@ Kinematic Wear index, in a MuJoCo workcell with a Franka Emika Panda and a kinem
 
 __version__ = "0.1.0"
 
+import logging  # noqa: E402
+
+logging.getLogger("ergosim").addHandler(logging.NullHandler())  # a library: the application decides
+
 from ergosim.errors import (  # noqa: E402
     ConfigError,
     ErgosimError,

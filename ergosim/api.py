@@ -26,6 +26,16 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+from ergosim.experiment.runner import SubjectResult, subject_session
+from ergosim.experiment.scenario import (
+    Scenario,
+    load_scenario,
+    register_scenario,
+    scenario_info,
+    scenario_names,
+)
+from ergosim.experiment.scenario_check import precheck
+from ergosim.experiment.scenario_run import run_scenario
 from ergosim.scenes import Workcell, build_cell, load_cell, register_scene, scene_names
 from ergosim.scenes.action_kinds import ACTION_KINDS, ActionKind, register_action_kind
 from ergosim.twin.modes import (
@@ -38,18 +48,8 @@ from ergosim.twin.modes import (
     register_risk_index,
     risk_index_names,
 )
+from ergosim.twin.protocol import ScenarioConfig
 from ergosim.twin.records import Allocation, Failure, RepetitionOutcome, SubjectRun
-from ergosim.twin.runner import SubjectResult, subject_session
-from ergosim.twin.scenario import ScenarioConfig
-from ergosim.twin.scenario_check import precheck
-from ergosim.twin.scenario_run import run_scenario
-from ergosim.twin.scenariofile import (
-    Scenario,
-    load_scenario,
-    register_scenario,
-    scenario_info,
-    scenario_names,
-)
 from ergosim.twin.session import Outcome, Session
 
 __all__ = [
@@ -89,7 +89,7 @@ __all__ = [
 
 def load(name_or_path: str | os.PathLike[str], overrides: Mapping[str, Any] | None = None,
          **protocol: Any) -> Scenario:
-    """The checked :class:`~ergosim.twin.scenariofile.Scenario` ``name_or_path`` (a registered name or a
+    """The checked :class:`~ergosim.experiment.scenario.Scenario` ``name_or_path`` (a registered name or a
     scenario file) with ``protocol`` fields set by keyword (``subjects=2``, ``modes=["hrc"]``,
     ``takt=40.0``) and ``overrides`` by ``--set`` key: a protocol field, ``scene.<dotted path or alias>`` of
     the workcell, ``task.<dotted path>`` of the task. Values may be typed or ``--set`` strings."""
@@ -181,7 +181,7 @@ def session(scenario: Scenario | str | os.PathLike[str], mode: str, *, subject: 
     """One subject's :class:`~ergosim.twin.session.Session` in ``mode``, to step by hand: ``run(n)``
     repetitions, or ``perform(action, agent)`` (an :class:`~ergosim.twin.session.Outcome`) one action at a
     time; ``session.cell`` is its :class:`~ergosim.scenes.Workcell`. See
-    :func:`~ergosim.twin.runner.subject_session`."""
+    :func:`~ergosim.experiment.runner.subject_session`."""
     if not isinstance(scenario, Scenario):
         scenario = load(scenario)
     return subject_session(scenario, subject, seed, mode, calibrate=calibrate)

@@ -1,8 +1,10 @@
 """The ``ergosim`` command line.
 
 Each subcommand lives in ``ergosim/commands/<name>.py`` and exposes ``add_parser(subparsers)`` and
-``run(args) -> int``. Errors from the :class:`~ergosim.errors.ErgosimError` family are printed as one
-line on stderr with exit status 2, never as a traceback. ``ergosim run`` exits 3 when a repetition was
+``run(args) -> int``. Every subcommand takes ``--verbose`` (diagnostics at DEBUG: what is read, written and
+finished) and ``--quiet`` (only warnings; no progress bar), :mod:`ergosim.logs`. Errors from the
+:class:`~ergosim.errors.ErgosimError` family are printed as one line on stderr with exit status 2, never as a
+traceback. ``ergosim run`` exits 3 when a repetition was
 abandoned, and 128 + N when signal N (SIGINT, SIGTERM) stopped it.
 """
 
@@ -10,11 +12,13 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import logging
 import os
 import sys
 
 from ergosim import __version__
 from ergosim.errors import ErgosimError
+from ergosim.logs import configure
 
 __all__ = ["main", "build_parser"]
 
@@ -33,7 +37,24 @@ def build_parser() -> argparse.ArgumentParser:
         module = importlib.import_module(f"ergosim.commands.{name}")
         sp = module.add_parser(sub)
         sp.set_defaults(_run=module.run)
+        _add_log_options(sp)
     return parser
+
+
+def _add_log_options(p: argparse.ArgumentParser) -> None:
+    """``--verbose`` and ``--quiet`` on every subcommand (a command's own ``--quiet`` says what else it
+    leaves out)."""
+    group = p.add_argument_group("diagnostics")
+    group.add_argument("-v", "--verbose", action="store_true",
+                       help="log what is read, written and finished (to stderr)")
+    if "--quiet" not in p._option_string_actions:
+        group.add_argument("-q", "--quiet", action="store_true", help="log warnings only")
+
+
+def _log_level(args: argparse.Namespace) -> int:
+    if args.verbose:
+        return logging.DEBUG
+    return logging.WARNING if getattr(args, "quiet", False) else logging.INFO
 
 
 def headless_gl() -> None:
@@ -48,12 +69,13 @@ def main(argv: list[str] | None = None) -> int:
     headless_gl()
     parser = build_parser()
     args = parser.parse_args(argv)
+    configure(_log_level(args))
     try:
         return int(args._run(args) or 0)
     except ErgosimError as err:
         print(f"ergosim: error: {err}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt as err:  # Ctrl-C, or SIGTERM during a run (ergosim.twin.interrupt)
+    except KeyboardInterrupt as err:  # Ctrl-C, or SIGTERM during a run (ergosim.experiment.interrupt)
         signum = getattr(err, "signum", 2)
         print(f"ergosim: interrupted{' by SIGTERM' if signum == 15 else ''}", file=sys.stderr)
         return 128 + signum

@@ -12,9 +12,27 @@ import typing
 from collections.abc import Iterable, Mapping
 from typing import Any
 
-from ergosim.errors import ConfigError
+from ergosim.errors import ConfigError, ErgosimError
 
-__all__ = ["parse_assignments", "apply_overrides", "field_names"]
+__all__ = ["parse_assignments", "apply_overrides", "field_names", "flat_values", "replace_flat",
+           "finite_float"]
+
+
+def finite_float(raw: Any, name: str, *, where: str, error: type[ErgosimError] = ConfigError) -> float:
+    """``raw`` (a number, or text such as a ``--set`` value) as a finite float, for every reader of user
+    input. An error is one message form, ``NAME='RAW' is not a number`` (or ``... is not a finite number``),
+    raised as ``error`` at ``where``; ``true``/``false`` are not numbers."""
+    value = None
+    if not isinstance(raw, bool):
+        try:
+            value = float(raw)
+        except (TypeError, ValueError):
+            pass
+    if value is None:
+        raise error(f"{name}={raw!r} is not a number", where=where)
+    if not math.isfinite(value):
+        raise error(f"{name}={raw!r} is not a finite number", where=where)
+    return value
 
 
 def parse_assignments(items: Iterable[str], *, where: str = "--set") -> dict[str, str]:
@@ -30,7 +48,49 @@ def parse_assignments(items: Iterable[str], *, where: str = "--set") -> dict[str
 
 
 def field_names(cfg: Any) -> tuple[str, ...]:
-    return tuple(f.name for f in dataclasses.fields(cfg) if f.init and not f.name.startswith("_"))
+    """The keys a user sets on ``cfg``: its fields, and the fields of its groups (fields that are frozen
+    dataclasses themselves) by their own names, which are unique."""
+    return tuple(_flat_fields(type(cfg)))
+
+
+def _flat_fields(cls: type) -> dict[str, tuple[str | None, Any]]:
+    """Flat key -> (the group field holding it, or None; its type hint), in declaration order."""
+    out: dict[str, tuple[str | None, Any]] = {}
+    hints = typing.get_type_hints(cls)
+    for f in dataclasses.fields(cls):
+        if not f.init or f.name.startswith("_"):
+            continue
+        hint = hints[f.name]
+        if dataclasses.is_dataclass(hint):
+            inner = typing.get_type_hints(hint)
+            out.update((g.name, (f.name, inner[g.name])) for g in dataclasses.fields(hint)
+                       if g.init and not g.name.startswith("_"))
+        else:
+            out[f.name] = (None, hint)
+    return out
+
+
+def flat_values(cfg: Any) -> dict[str, Any]:
+    """Every settable field of ``cfg`` by its flat key (see :func:`field_names`)."""
+    return {k: getattr(cfg if group is None else getattr(cfg, group), k)
+            for k, (group, _) in _flat_fields(type(cfg)).items()}
+
+
+def replace_flat(cfg: Any, changes: Mapping[str, Any]) -> Any:
+    """A copy of ``cfg`` with ``changes`` (flat key -> value, already typed) applied to it and its groups."""
+    fields = _flat_fields(type(cfg))
+    top: dict[str, Any] = {}
+    groups: dict[str, dict[str, Any]] = {}
+    for key, value in changes.items():
+        if key not in fields:
+            raise TypeError(f"{type(cfg).__name__} has no field {key!r}")
+        group = fields[key][0]
+        if group is None:
+            top[key] = value
+        else:
+            groups.setdefault(group, {})[key] = value
+    top.update({g: dataclasses.replace(getattr(cfg, g), **v) for g, v in groups.items()})
+    return dataclasses.replace(cfg, **top)
 
 
 def _convert(raw: Any, annotation: Any, key: str, where: str) -> Any:
@@ -69,13 +129,7 @@ def _convert(raw: Any, annotation: Any, key: str, where: str) -> Any:
         except ValueError:
             raise ConfigError(f"{key}={raw!r} is not an integer", where=where) from None
     if annotation is float:
-        try:
-            value = float(raw)
-        except (TypeError, ValueError):
-            raise ConfigError(f"{key}={raw!r} is not a number", where=where) from None
-        if not math.isfinite(value):
-            raise ConfigError(f"{key}={raw!r} is not a finite number", where=where)
-        return value
+        return finite_float(raw, key, where=where)
     if annotation is str:
         return str(raw)
     return raw
@@ -109,21 +163,21 @@ def _tuple(raw: Any, args: tuple, key: str, where: str) -> tuple:
 
 
 def apply_overrides(cfg: Any, overrides: Mapping[str, Any], *, where: str = "--set") -> Any:
-    """A copy of the frozen dataclass ``cfg`` with ``overrides`` applied and type-converted.
+    """A copy of the frozen dataclass ``cfg`` with ``overrides`` (by flat key, :func:`field_names`) applied
+    and type-converted.
 
     Unknown keys raise :class:`ConfigError` listing the valid ones. If the dataclass defines
     ``validate()``, it runs on the result (range checks live with the config they guard).
     """
     if not overrides:
         return cfg
-    hints = typing.get_type_hints(type(cfg))
-    valid = field_names(cfg)
+    fields = _flat_fields(type(cfg))
     changes: dict[str, Any] = {}
     for key, raw in overrides.items():
-        if key not in valid:
-            raise ConfigError(f"unknown key {key!r}; valid keys: {', '.join(valid)}", where=where)
-        changes[key] = _convert(raw, hints[key], key, where)
-    new = dataclasses.replace(cfg, **changes)
+        if key not in fields:
+            raise ConfigError(f"unknown key {key!r}; valid keys: {', '.join(fields)}", where=where)
+        changes[key] = _convert(raw, fields[key][1], key, where)
+    new = replace_flat(cfg, changes)
     validate = getattr(new, "validate", None)
     if callable(validate):
         validate(where=where)

@@ -17,7 +17,7 @@ from ergosim.cli import headless_gl
 
 headless_gl()  # before MuJoCo is imported
 
-from ergosim.video.clip import ClipSettings, repetition_clip  # noqa: E402
+from ergosim.experiment.clip import ClipSettings, repetition_clip  # noqa: E402
 
 DEFAULT_OUT = Path(__file__).resolve().parents[1] / "docs" / "img" / "hrc_repetition.gif"
 

@@ -6,7 +6,7 @@
 Runs one r-only repetition per subject in the real loop and prints, per action, its duration and the
 robot's transit, contact-critical, gripper, waiting-at-the-handover and way-home times.
 ``--sensitivity`` repeats it with the transit speed at -10 % and +10 %. The logic lives in
-ergosim.twin.robot_timing.
+ergosim.experiment.robot_timing.
 """
 
 from __future__ import annotations
@@ -14,9 +14,9 @@ from __future__ import annotations
 import argparse
 
 from ergosim.atomic import write_json
+from ergosim.experiment.robot_timing import format_summary, robot_only_runs, timing_summary
+from ergosim.experiment.scenario import load_scenario
 from ergosim.overrides import parse_assignments
-from ergosim.twin.robot_timing import format_summary, robot_only_runs, timing_summary
-from ergosim.twin.scenariofile import load_scenario
 
 
 def main() -> None:
@@ -31,16 +31,17 @@ def main() -> None:
     scenario = load_scenario(args.scenario, parse_assignments(args.assign))
     cases = {"nominal": scenario}
     if args.sensitivity:
-        v = scenario.protocol.transit_speed
+        v = scenario.protocol.robot.transit_speed
         cases |= {f"transit_speed {f:+.0%}": scenario.with_overrides({"transit_speed": str(v * (1 + f))})
                   for f in (-0.1, 0.1)}
     out = {}
     for label, sc in cases.items():
         summary = timing_summary(robot_only_runs(sc, args.subjects, args.seed))
-        summary["ee_speed"], summary["transit_speed"] = sc.protocol.ee_speed, sc.protocol.transit_speed
+        robot = sc.protocol.robot
+        summary["ee_speed"], summary["transit_speed"] = robot.ee_speed, robot.transit_speed
         out[label] = summary
-        print(f"[{label}] {args.scenario}: ee_speed {sc.protocol.ee_speed} m/s, transit_speed "
-              f"{sc.protocol.transit_speed:.4g} m/s")
+        print(f"[{label}] {args.scenario}: ee_speed {sc.protocol.robot.ee_speed} m/s, transit_speed "
+              f"{sc.protocol.robot.transit_speed:.4g} m/s")
         print(format_summary(summary), flush=True)
     if args.json_path:
         write_json(args.json_path, out)

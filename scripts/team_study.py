@@ -26,7 +26,7 @@ from scipy.stats import wilcoxon
 from ergosim import api
 from ergosim.atomic import write_json
 from ergosim.errors import ConfigError
-from ergosim.twin.team_metrics import team_document
+from ergosim.experiment.team_metrics import team_document
 
 
 def _figures(scenario, results, out: Path, mode: str) -> dict:

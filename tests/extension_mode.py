@@ -10,9 +10,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ergosim.ergonomics.cost import CostParams
 from ergosim.ergonomics.risk_index import RiskIndex
 from ergosim.twin.modes import Mode, RiskIndexEntry, register_mode, register_risk_index
+from ergosim.viz.reason import register_reason
 
 
 class PeakKWear(RiskIndex):
@@ -40,16 +40,15 @@ class PeakKWear(RiskIndex):
 
 
 def _build(ctx):
-    cfg = ctx.protocol
-    return PeakKWear(ctx.kwear), CostParams(gamma=cfg.gamma, v_th=cfg.v_th, robot_cost=cfg.robot_cost,
-                                            v_max=ctx.kwear.params.v_max)
+    return PeakKWear(ctx.kwear), ctx.protocol.cost.params(ctx.kwear.params.v_max)
 
 
-def _reason(action, agent, v_hat, costs, index, cost, human, robots) -> str:
-    peak = float(np.asarray(v_hat[action])[0])
-    rel = "≥" if peak >= cost.v_th else "<"
-    return f"{action} → {agent}: peak predicted KWear {peak:.2f} {rel} V_th {cost.v_th:g}"
+def _reason(d) -> str:
+    peak = float(np.asarray(d.v_hat[d.action])[0])
+    rel = "≥" if peak >= d.basis.v_th else "<"
+    return f"{d.action} → {d.agent}: peak predicted KWear {peak:.2f} {rel} V_th {d.basis.v_th:g}"
 
 
-register_risk_index(RiskIndexEntry("kwear-peak", _build, _reason))
+register_risk_index(RiskIndexEntry("kwear-peak", _build))
+register_reason("kwear-peak", _reason)
 register_mode(Mode("peak", "the most-loaded joint's predicted KWear against V_th", risk_index="kwear-peak"))

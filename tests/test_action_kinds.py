@@ -17,7 +17,6 @@ from ergosim import api
 from ergosim.errors import ConfigError
 from ergosim.robot import SkillStatus
 from ergosim.robot.skills import PickPlace
-from ergosim.scenes import action_kinds
 from ergosim.scenes.action_kinds import ACTION_KINDS, ActionKind, register_action_kind
 
 ORDER = ("b1", "b2", "b3", "b4", "b5")
@@ -144,4 +143,4 @@ def test_a_new_kind_is_one_registration(tmp_path):
         with pytest.raises(ConfigError, match="unknown action kind 'screw_in'; kinds: .*press"):
             api.workcell(path)
     finally:
-        action_kinds._KINDS.pop("press", None)  # leave the registry as the other tests expect it
+        ACTION_KINDS.unregister("press")  # leave the registry as the other tests expect it

@@ -31,7 +31,8 @@ def test_every_public_name_exists():
 def test_load_by_name_or_path_with_overrides(tmp_path):
     sc = api.load("multi-subject", {"scene.l_xy": "0.20,0.82", "task.agents.robot.cost": 3.0},
                   subjects=2, repetitions=3, modes=["hrc"], takt=40)
-    assert (sc.protocol.subjects, sc.protocol.repetitions, sc.protocol.modes, sc.protocol.takt) == \
+    cfg = sc.protocol
+    assert (cfg.population.subjects, cfg.pacing.repetitions, cfg.modes, cfg.pacing.takt) == \
         (2, 3, ("hrc",), 40.0)
     assert sc.cell().part("L").xy == (0.20, 0.82)
     assert sc.task().agents[1].cost == 3.0
@@ -67,6 +68,7 @@ def test_run_returns_the_summary_and_the_records_as_objects(results):
         results.runs("hrc")
 
 
+@pytest.mark.slow
 def test_the_same_seed_gives_the_same_records(results, tmp_path):
     again = api.run(api.load(write_product(tmp_path, scenario=QUICK), subjects=2), seed=3, jobs=2,
                     out=tmp_path / "out")
@@ -82,6 +84,7 @@ def test_a_session_steps_one_action_at_a_time(tmp_path):
         api.session(write_product(tmp_path), "hrc", calibrate=False)
 
 
+@pytest.mark.slow
 def test_the_layout_comparison_example_runs(tmp_path):
     proc = subprocess.run([sys.executable, str(ROOT / "examples" / "compare_layouts.py"), "--subjects", "1",
                            "--reps", "1", "--jobs", "1"], capture_output=True, text=True, timeout=600,

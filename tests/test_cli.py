@@ -24,3 +24,32 @@ def test_unknown_command_is_a_usage_error():
                           capture_output=True, text=True)
     assert proc.returncode == 2 and "Traceback" not in proc.stderr
     assert "invalid choice: 'frobnicate'" in proc.stderr
+
+
+def test_every_command_takes_verbose_and_quiet_and_diagnostics_go_through_logging(capsys):
+    import argparse  # noqa: PLC0415
+    import logging  # noqa: PLC0415
+
+    from ergosim.cli import COMMANDS, build_parser  # noqa: PLC0415
+    from ergosim.logs import configure, configured_level  # noqa: PLC0415
+
+    sub = next(a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction))
+    for name in COMMANDS:
+        options = sub.choices[name]._option_string_actions
+        assert {"-v", "--verbose", "-q", "--quiet"} <= set(options), name
+    logger = logging.getLogger("ergosim.experiment.run_merge")
+    try:
+        for level in (logging.DEBUG, logging.INFO, logging.WARNING):
+            configure(level)
+            configure(level)  # once, however often
+            logger.debug("a diagnostic")
+            logger.info("a note")
+            logger.warning("a problem")
+            assert configured_level() == level
+        err = capsys.readouterr().err.splitlines()
+        assert err == ["DEBUG ergosim.experiment.run_merge: a diagnostic",
+                       "INFO ergosim.experiment.run_merge: a note",
+                       "WARNING ergosim.experiment.run_merge: a problem",
+                       "a note", "a problem", "a problem"]
+    finally:
+        configure(logging.INFO)

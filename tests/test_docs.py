@@ -5,19 +5,18 @@ names files that exist.
 
 from __future__ import annotations
 
-import dataclasses
 import re
 from pathlib import Path
 
 import pytest
 
 from ergosim import api
+from ergosim.experiment import scenario as scenariofile
 from ergosim.human.anthropometry import SEGMENT_SCALES
 from ergosim.scenes import cellfile
 from ergosim.scenes.action_kinds import ACTION_KINDS
 from ergosim.scenes.cellspec import SHAPES
-from ergosim.twin import scenariofile
-from ergosim.twin.scenario import ScenarioConfig
+from ergosim.twin.protocol import PROTOCOL_KEYS
 
 ROOT = Path(__file__).resolve().parents[1]
 BUNDLED_MODES = ("hrc", "rula", "h-only", "r-only")
@@ -36,7 +35,7 @@ SCHEMAS = {
     "[views.NAME]": cellfile._VIEW,
     "[safety]": cellfile._SAFETY,
     "scenario top level": dict.fromkeys(scenariofile._TOP),
-    "[protocol]": dict.fromkeys(f.name for f in dataclasses.fields(ScenarioConfig)),
+    "[protocol]": dict.fromkeys(PROTOCOL_KEYS),
 }
 
 

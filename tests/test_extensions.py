@@ -10,12 +10,14 @@ import json
 
 import extension_mode
 import numpy as np
+import pytest
 from own_product import write_product
 
 from ergosim import api
 from ergosim.cli import main
+from ergosim.experiment import scenario as scenariofile
 from ergosim.plugins import extension_modules
-from ergosim.twin import scenariofile
+from ergosim.viz.reason import reason_text
 
 
 def test_a_new_mode_and_risk_index_are_registered_by_importing_one_module():
@@ -24,6 +26,7 @@ def test_a_new_mode_and_risk_index_are_registered_by_importing_one_module():
     assert extension_mode.__name__ in extension_modules()  # worker processes will import it too
 
 
+@pytest.mark.slow
 def test_the_new_mode_runs_end_to_end_in_worker_processes(tmp_path, capsys):
     """Two subjects in two spawned processes, which import extension_mode themselves."""
     out = tmp_path / "peak"
@@ -35,7 +38,7 @@ def test_the_new_mode_runs_end_to_end_in_worker_processes(tmp_path, capsys):
     with (out / "allocations.csv").open() as f:
         rows = [r for r in csv.DictReader(f) if r["status"] == "done"]
     assert len(rows) == 20
-    gamma, robot_cost = sc.protocol.gamma, sc.protocol.robot_cost
+    gamma, robot_cost = sc.protocol.cost.gamma, sc.protocol.cost.robot_cost
     for r in rows:
         human = float(r["human_cost"])
         # one channel: max_i V̂_i < 1, or that plus Γ once it reaches V_th -- never a sum over joints
@@ -47,7 +50,8 @@ def test_the_new_mode_runs_end_to_end_in_worker_processes(tmp_path, capsys):
     assert len(decisions) == 20
     for d in decisions:
         peak = float(np.max(d.v_hat[d.action]))
-        assert d.reason.startswith(f"{d.action} → {d.agent}: peak predicted KWear {peak:.2f}"), d.reason
+        text = reason_text(d)
+        assert text.startswith(f"{d.action} → {d.agent}: peak predicted KWear {peak:.2f}"), text
     assert main(["run", "kwear-validation", "--mode", "peak", "--reps", "1", "--jobs", "1", "--quiet",
                  "--set", "eta_max=2", "--out", str(tmp_path / "cli")]) == 0  # --mode offers it too
     capsys.readouterr()
@@ -68,7 +72,7 @@ def test_a_registered_scenario_is_listed_and_runs_by_name(tmp_path, capsys):
         assert summary["modes"]["r-only"]["robot_share"] == 1.0
         assert summary["modes"]["h-only"]["robot_share"] == 0.0
     finally:
-        scenariofile._SCENARIOS.pop("my-bracket", None)  # leave the registry as the other tests expect it
+        scenariofile.SCENARIOS.unregister("my-bracket")  # leave the registry as the other tests expect it
 
 
 def _scenario() -> str:

@@ -12,10 +12,10 @@ import numpy as np
 import pytest
 
 from ergosim.cli import main
+from ergosim.experiment.scenario import load_scenario
+from ergosim.experiment.scenario_check import PANDA_MAX_OPENING
 from ergosim.posture import KWEAR_JOINTS
 from ergosim.scenes import build_scene
-from ergosim.twin.scenario_check import PANDA_MAX_OPENING
-from ergosim.twin.scenariofile import load_scenario
 from ergosim.viz import RecordingReader
 
 
@@ -55,6 +55,7 @@ def test_the_gearbox_meets_the_issues_list():
     assert z[-1] - z[0] > 0.2
 
 
+@pytest.mark.slow
 def test_a_short_gearbox_run_writes_everything(gearbox_run):
     out, rrd = gearbox_run
     summary = json.loads((out / "summary.json").read_text())
@@ -77,6 +78,7 @@ def test_a_short_gearbox_run_writes_everything(gearbox_run):
     assert len(t) > 100 and np.all((v >= 0) & (v < 1))
 
 
+@pytest.mark.slow
 def test_gearbox_allocations_come_from_the_workers_postures(gearbox_run):
     """Every hrc decision priced the worker's hyper-arc with eq. 9-11 from the subject's calibrated α, which
     come from that subject's postures in this cell (different per action), and the robot got an action

@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-import mujoco
 import numpy as np
 import pytest
 
 from ergosim.errors import ConfigError
 from ergosim.fidelity import handover_wear
+from ergosim.quat import to_mat
 from ergosim.scenes import build_scene
 from ergosim.scenes.cellbuild import PRESENT_STANDOFF, present_site
 from ergosim.twin.calibration import put_part
@@ -19,19 +19,13 @@ def cell():
     return build_scene("multi-subject")
 
 
-def _mat(quat) -> np.ndarray:
-    m = np.empty(9)
-    mujoco.mju_quat2Mat(m, np.asarray(quat, dtype=float))
-    return m.reshape(3, 3)
-
-
 def test_the_present_pose_is_the_target_short_by_the_stroke_along_the_way_in(cell):
     for action in ("a2", "a3", "a4"):
         g = cell.actions[action]
         assert g.handover == present_site(action)
         seat_p, seat_q = cell.site_pose(g.target)
         pres_p, pres_q = cell.site_pose(g.handover)
-        axis = _mat(seat_q)[:, 0]  # the profiles' insert axis, x, lies along the slot's axis
+        axis = to_mat(seat_q)[:, 0]  # the profiles' insert axis, x, lies along the slot's axis
         np.testing.assert_allclose(pres_p - seat_p, PRESENT_STANDOFF * axis, atol=1e-9)
         np.testing.assert_allclose(pres_q, seat_q, atol=1e-9)
     p1, _ = cell.site_pose(cell.actions["a1"].handover)

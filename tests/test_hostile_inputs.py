@@ -21,10 +21,10 @@ import pytest
 
 from ergosim.cli import main
 from ergosim.errors import ConfigError, InfeasiblePlanError, TaskFileError
+from ergosim.experiment.run_folder import RunFolder
 from ergosim.planner import Agent, AndOrGraph, Operation, generate_task, limits, load_task
 from ergosim.planner.taskfile import parse_task
-from ergosim.twin.run_folder import RunFolder
-from ergosim.viz import sinks
+from ergosim.viz import recorder, sinks
 from ergosim.worker.bvh_parse import parse_bvh_text
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -60,26 +60,32 @@ def _valid_outputs(out: Path) -> dict:
 
 
 # -- 1. hangs: a recorder that cannot deliver, a viewer that cannot open -------------------------------------
-def test_connect_to_a_dead_port_fails_after_a_bounded_flush_with_the_results_written(tmp_path):
+def test_connect_to_a_dead_port_fails_after_a_bounded_flush_with_the_results_written(tmp_path, capsys,
+                                                                                    monkeypatch):
+    """In-process, with the flush bound cut from its default to 2 s: the run waits that long, no longer."""
+    assert 0 < recorder._FLUSH_TIMEOUT < 280
+    monkeypatch.setattr(recorder, "_FLUSH_TIMEOUT", 2.0)
     out = tmp_path / "x"
     start = time.monotonic()
-    proc = _cli([*KV, "--connect", "rerun+http://127.0.0.1:9/proxy", "--out", str(out)], timeout=300)
-    assert proc.returncode == 2, proc.stderr
-    assert "ergosim: error: --spawn/--connect: the recording did not reach the viewer" in proc.stderr
-    assert "Traceback" not in proc.stderr
+    code = main([*KV, "--connect", "rerun+http://127.0.0.1:9/proxy", "--out", str(out)])
+    printed = capsys.readouterr()
+    assert code == 2, printed.err
+    assert "ergosim: error: --spawn/--connect: the recording did not reach the viewer" in printed.err
+    assert "Traceback" not in printed.err
     assert time.monotonic() - start < 280
     summary = _valid_outputs(out)
     assert summary["complete"] is True and (out / "ticks.csv").is_file()
-    assert "results:" in proc.stdout  # the summary is printed before the error
+    assert "results:" in printed.out  # the summary is printed before the error
 
 
-def test_spawn_without_a_display_is_refused_before_the_run(tmp_path):
-    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
+def test_spawn_without_a_display_is_refused_before_the_run(tmp_path, capsys, monkeypatch):
+    monkeypatch.delenv("DISPLAY", raising=False)
+    monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
     out = tmp_path / "x"
-    proc = subprocess.run([sys.executable, "-m", "ergosim.cli", *KV, "--spawn", "--out", str(out)],
-                          capture_output=True, text=True, timeout=120, env=env, check=False)
-    assert proc.returncode == 2 and proc.stderr.count("\n") == 1, proc.stderr
-    assert "--spawn: cannot open a viewer: no display" in proc.stderr
+    code = main([*KV, "--spawn", "--out", str(out)])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1, err
+    assert "--spawn: cannot open a viewer: no display" in err
     assert not out.exists()
 
 
@@ -130,9 +136,9 @@ FAR_ROBOT = ["--set", "scene.robot_base=0.94,-0.5,0.9", "--set", "scene.robots.r
 def test_failed_robot_attempts_do_not_count_as_robot_actions(tmp_path):
     """The same cell run from Python, past the CLI's pre-check: r-only sends the robot every action it may
     do, each attempt fails as unreachable in the physics, and the robot share stays 0."""
-    from ergosim.twin.scenario_run import run_scenario  # noqa: PLC0415
-    from ergosim.twin.scenariofile import load_scenario  # noqa: PLC0415
-    from ergosim.twin.summary_text import summary_text  # noqa: PLC0415
+    from ergosim.experiment.scenario import load_scenario  # noqa: PLC0415
+    from ergosim.experiment.scenario_run import run_scenario  # noqa: PLC0415
+    from ergosim.experiment.summary_text import summary_text  # noqa: PLC0415
 
     scenario = load_scenario("multi-subject", {"subjects": "1", "repetitions": "1", "modes": "r-only",
                                                "scene.robot_base": "0.94,-0.5,0.9",
@@ -199,6 +205,7 @@ def test_a_run_removes_what_an_earlier_run_left_and_keeps_other_files(tmp_path):
     assert (tmp_path / "escape").read_text() == "outside"  # a manifest cannot point outside the folder
 
 
+@pytest.mark.slow
 def test_interrupting_a_run_over_an_earlier_complete_one_leaves_no_stale_complete_summary(tmp_path):
     out = tmp_path / "o"
     _earlier_run(out)
@@ -306,7 +313,7 @@ def test_an_overflowing_sum_is_diagnosed_not_an_index_error():
     from ergosim.planner import bottom_up  # noqa: PLC0415
 
     with pytest.raises(InfeasiblePlanError, match="overflows to inf"):
-        bottom_up.solve(graph, np.array(graph._leaf), np.array([1e308, 1e308]))
+        bottom_up.solve(graph, np.array(graph.leaves), np.array([1e308, 1e308]))
 
 
 # -- 9. documented bounds on size, memory and time -----------------------------------------------------
@@ -368,12 +375,12 @@ def test_ee_speed_is_bounded_by_the_panda(capsys, tmp_path):
     code = main(["run", "kwear-validation", "--quiet", "--out", str(tmp_path / "n"),
                  "--set", "ee_speed=100"])
     _one_line_error(capsys, code, "ee_speed must be in (0, 1.7] m/s")
+    from ergosim.experiment.scenario import scenario_config  # noqa: PLC0415
     from ergosim.overrides import apply_overrides  # noqa: PLC0415
-    from ergosim.twin.scenariofile import scenario_config  # noqa: PLC0415
 
     # the bound itself is allowed; contact-critical motion may not outrun the transits (transit_speed)
     fast = apply_overrides(scenario_config("kwear-validation"), {"ee_speed": "1.7", "transit_speed": "1.7"})
-    assert (fast.ee_speed, fast.transit_speed) == (1.7, 1.7)
+    assert (fast.robot.ee_speed, fast.robot.transit_speed) == (1.7, 1.7)
 
 
 # -- 11. interruption ------------------------------------------------------------------------------------
@@ -389,6 +396,7 @@ def _wait_for_subjects(out: Path, n: int, proc: subprocess.Popen, timeout: float
         time.sleep(0.1)
 
 
+@pytest.mark.slow
 def test_ctrl_c_with_two_jobs_prints_no_worker_traceback(tmp_path):
     out = tmp_path / "o"
     proc = subprocess.Popen([sys.executable, "-m", "ergosim.cli", "run", "kwear-validation", "--subjects",
@@ -411,6 +419,7 @@ def test_ctrl_c_with_two_jobs_prints_no_worker_traceback(tmp_path):
     assert summary["complete"] is False and summary["status"] == "interrupted", (summary["status"], err)
 
 
+@pytest.mark.slow
 def test_sigterm_writes_the_finished_subjects_like_sigint(tmp_path):
     out = tmp_path / "o"
     proc = subprocess.Popen([sys.executable, "-m", "ergosim.cli", "run", "kwear-validation", "--subjects",

@@ -7,8 +7,8 @@ from typing import Literal
 
 import pytest
 
-from ergosim.errors import ConfigError
-from ergosim.overrides import apply_overrides, parse_assignments
+from ergosim.errors import ConfigError, TaskFileError
+from ergosim.overrides import apply_overrides, finite_float, parse_assignments
 
 
 @dataclasses.dataclass(frozen=True)
@@ -64,3 +64,18 @@ def test_unknown_key_lists_valid_keys():
 def test_bad_values_are_clear_errors(key, value, expected):
     with pytest.raises(ConfigError, match=expected):
         apply_overrides(_Cfg(), {key: value})
+
+
+@pytest.mark.parametrize(("raw", "said"), [
+    ("fast", "takt='fast' is not a number"),
+    ("inf", "takt='inf' is not a finite number"),
+    (True, "takt=True is not a number"),
+    (None, "takt=None is not a number"),
+])
+def test_one_finite_float_parser_with_one_message_form(raw, said):
+    assert finite_float("38", "takt", where="x") == 38.0 and finite_float(2, "takt", where="x") == 2.0
+    with pytest.raises(ConfigError) as info:
+        finite_float(raw, "takt", where="--set")
+    assert str(info.value) == f"--set: {said}"
+    with pytest.raises(TaskFileError, match="is not"):
+        finite_float(raw, "takt", where="task.toml", error=TaskFileError)

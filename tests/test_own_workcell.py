@@ -15,7 +15,7 @@ from own_product import CELL, TASK, write_block_stl, write_product
 from ergosim import api
 from ergosim.cli import main
 from ergosim.errors import ConfigError
-from ergosim.twin.scenariofile import load_scenario
+from ergosim.experiment.scenario import load_scenario
 
 
 def test_a_scenario_with_its_own_task_and_workcell_files_runs_end_to_end(tmp_path, capsys):

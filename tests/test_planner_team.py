@@ -25,10 +25,10 @@ def _through_by_key(graph, done, costs, pruned):
     cost = hyperarc_costs(graph, costs, pruned)
     value, totals = bottom_up.node_costs(graph, config, cost)
     j = through_costs(graph, totals, outside_costs(graph, value, cost))
-    lay = graph._layout
+    lay = graph.layout
     keys = {(graph.operations[int(o)].name, graph.agents[int(a)].name): float(x)
             for o, a, x in zip(lay.op, lay.agent, j, strict=True)}
-    return keys, float(value[graph._root])
+    return keys, float(value[graph.root])
 
 
 def check_through(graph, done, costs, pruned):

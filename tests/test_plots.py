@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 from ergosim.cli import main
-from ergosim.posture import KWEAR_JOINTS
-from ergosim.twin.plots import (
+from ergosim.experiment.csv_files import SUBJECT_COLUMNS
+from ergosim.experiment.plots import (
     actions_figure,
     allocation_figure,
     modes_figure,
@@ -25,7 +25,7 @@ from ergosim.twin.plots import (
     read_ticks,
     timeline_figure,
 )
-from ergosim.twin.report import SUBJECT_COLUMNS
+from ergosim.posture import KWEAR_JOINTS
 
 
 @pytest.fixture(scope="module")
@@ -159,11 +159,12 @@ def test_plots_are_drawn_from_the_files_and_redrawn_for_chosen_subjects(run_dir,
     assert main(["plot", str(tmp_path / "none")]) == 2
 
 
-def test_run_plot_subject_chooses_the_panels(tmp_path):
-    out = tmp_path / "out"
-    assert main(["run", "kwear-validation", "--reps", "1", "--subjects", "2", "--mode", "hrc", "--jobs", "1",
-                 "--quiet", "--out", str(out), "--plot-subject", "1"]) == 0
-    fig = timeline_figure(read_ticks(out, (1,))["hrc"], read_attempts(out), v_th=0.8, title="")
+def test_run_plot_subject_chooses_the_panels(kv_two_subjects):
+    """The shared two-subject run, made with --plot-subject 1 (tests/conftest.py)."""
+    out = kv_two_subjects.out
+    assert kv_two_subjects.code == 0
+    fig = timeline_figure(read_ticks(out, (1,))["hrc"], [a for a in read_attempts(out) if a.mode == "hrc"],
+                          v_th=0.8, title="")
     assert [ax.get_ylabel() for ax in fig.axes[::2]] == ["subject 1\nKWear V"]
     height = matplotlib.image.imread(out / "kwear_timeline_hrc.png").shape[0]
     assert height == pytest.approx(fig.get_figheight() * 110, abs=2)

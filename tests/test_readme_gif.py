@@ -9,11 +9,12 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
 from PIL import Image
 
-from ergosim.twin.runner import run_subject
-from ergosim.twin.scenariofile import load_scenario
-from ergosim.video.clip import MAX_GIF_BYTES, _attempts, robot_repetition
+from ergosim.experiment.clip import MAX_GIF_BYTES, _attempts, robot_repetition
+from ergosim.experiment.runner import run_subject
+from ergosim.experiment.scenario import load_scenario
 
 ROOT = Path(__file__).resolve().parents[1]
 GIF = ROOT / "docs" / "img" / "hrc_repetition.gif"
@@ -45,6 +46,7 @@ def test_the_committed_gif_is_the_scripts_output_for_todays_simulation():
     assert any(agent == "robot" and status == "done" for _, agent, status, *_ in doc["attempts"])
 
 
+@pytest.mark.slow
 def test_the_script_makes_a_looping_gif_with_its_provenance(tmp_path):
     out = tmp_path / "clip.gif"
     env = {**os.environ, "MUJOCO_GL": "egl"}

@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 import ergosim.robot as robot_pkg
+from ergosim.quat import to_mat
 from ergosim.robot import PandaKinematics
 from ergosim.robot.skills import SkillParams, handover, pick_place
 from ergosim.robot.status import SkillStatus
@@ -25,12 +26,6 @@ def kwear():
 @pytest.fixture(scope="module")
 def multi():
     return build_scene("multi-subject")
-
-
-def _mat(quat):
-    m = np.empty(9)
-    mujoco.mju_quat2Mat(m, np.asarray(quat, dtype=float))
-    return m.reshape(3, 3)
 
 
 def test_public_api_names_exist():
@@ -117,7 +112,7 @@ def test_handover_brings_each_profile_to_the_handover_pose(multi, kin, profile):
         err = np.linalg.norm(w.body_pose(profile)[0] - pos)
         if err < 0.005:
             seen["error"] = err
-            seen["rot"] = _mat(w.body_pose(profile)[1])
+            seen["rot"] = to_mat(w.body_pose(profile)[1])
             w.grasp("human_right", profile)
             return True
         return False
@@ -131,7 +126,7 @@ def test_handover_brings_each_profile_to_the_handover_pose(multi, kin, profile):
     assert res.status is SkillStatus.OK, res.message
     assert seen["error"] < 0.005 and res.place_error < 0.005
     part_rot = seen["rot"]
-    angle = np.degrees(np.arccos(np.clip((np.trace(part_rot.T @ _mat(quat)) - 1) / 2, -1, 1)))
+    angle = np.degrees(np.arccos(np.clip((np.trace(part_rot.T @ to_mat(quat)) - 1) / 2, -1, 1)))
     assert min(angle, 180 - angle) < 3.0  # lying along the handover pose (a profile is symmetric)
     # the worker holds it now; the robot let go and went home
     assert wc.holder_of(profile) == "human_right"
@@ -263,7 +258,7 @@ def test_insertion_runs_its_whole_stroke_at_the_contact_speed(kwear, kin):
     wc = kwear
     wc.reset()
     pos, quat = wc.site_pose(wc.actions["a2"].target)  # the upper hollow of J
-    skill = pick_place(wc, "L", pos, quat, approach=_mat(quat)[:, 2], seat=True, kin=kin)
+    skill = pick_place(wc, "L", pos, quat, approach=to_mat(quat)[:, 2], seat=True, kin=kin)
     res, cmd, act, phase, dt = _execute(wc, skill, kin)
     assert res.status is SkillStatus.OK, res.message
     _check_speeds(res, skill, cmd, act, phase, dt)

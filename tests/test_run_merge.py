@@ -3,6 +3,7 @@ the unsharded one byte for byte. Also the subject records a run folder keeps for
 
 from __future__ import annotations
 
+import fnmatch
 import json
 import math
 import shutil
@@ -11,9 +12,11 @@ import numpy as np
 import pytest
 
 from ergosim.cli import main
+from ergosim.experiment.outputs import OUTPUTS
+from ergosim.experiment.run_folder import MANIFEST
+from ergosim.experiment.subject_records import RunRecord, SubjectRecord, read_records, write_records
+from ergosim.experiment.summary import summarise
 from ergosim.twin.records import TICK_COLUMNS, Allocation, Failure, RepetitionOutcome, SubjectRun, TickLog
-from ergosim.twin.report import summarise
-from ergosim.twin.subject_records import RunRecord, SubjectRecord, read_records, write_records
 
 RUN = ["run", "multi-subject", "--subjects", "3", "--reps", "1", "--jobs", "1", "--quiet", "--set",
        "eta_max=2"]
@@ -31,6 +34,7 @@ def shards(tmp_path_factory):
     return tmp
 
 
+@pytest.mark.slow
 def test_a_shard_runs_only_its_subjects_seeded_as_in_the_whole_run(shards):
     whole = json.loads((shards / "whole" / "summary.json").read_text())
     b = json.loads((shards / "b" / "summary.json").read_text())
@@ -42,6 +46,7 @@ def test_a_shard_runs_only_its_subjects_seeded_as_in_the_whole_run(shards):
     assert b["complete"] is True and b["config"]["subjects"] == 3
 
 
+@pytest.mark.slow
 def test_merged_shards_are_the_unsharded_run_byte_for_byte(shards, tmp_path, capsys):
     out = tmp_path / "merged"
     assert main(["merge", str(shards / "b"), str(shards / "a"), "--out", str(out)]) == 0  # any order
@@ -53,9 +58,25 @@ def test_merged_shards_are_the_unsharded_run_byte_for_byte(shards, tmp_path, cap
     assert json.loads((out / "run.json").read_text())["status"] == "complete"
 
 
+def test_every_file_of_a_run_and_of_a_merge_is_one_entry_of_the_outputs_list(shards, tmp_path, capsys):
+    """OUTPUTS is the one list of a run folder's files: each file matches one entry's names, and every entry
+    but team.json (a team setting only) has its files in the run and in the merge."""
+    out = tmp_path / "merged"
+    assert main(["merge", str(shards / "a"), str(shards / "b"), "--out", str(out), "--quiet", "-v"]) == 0
+    err = capsys.readouterr().err
+    assert "DEBUG ergosim.experiment.run_merge: merging 2 shard(s) of multi-subject" in err
+    for folder in (shards / "whole", out):
+        names = [p.name for p in folder.iterdir() if p.name != MANIFEST]
+        owners = {n: [o.name for o in OUTPUTS if any(fnmatch.fnmatch(n, f) for f in o.files)] for n in names}
+        assert all(len(set(o)) == 1 for o in owners.values()), owners
+        assert {o[0] for o in owners.values()} == {o.name for o in OUTPUTS} - {"team"}
+
+
+@pytest.mark.slow
 def test_merge_refuses_what_is_not_shards_of_one_run(shards, tmp_path, capsys):
     other = tmp_path / "other"
-    assert main([*RUN[:-2], "--set", "eta_max=3", "--subject-range", "1:3", "--out", str(other)]) == 0
+    # one subject is enough: the configs are compared before the subject ranges
+    assert main([*RUN[:-2], "--set", "eta_max=3", "--subject-range", "2:3", "--out", str(other)]) == 0
     unfinished = tmp_path / "unfinished"
     shutil.copytree(shards / "b", unfinished)
     manifest = json.loads((unfinished / "run.json").read_text())

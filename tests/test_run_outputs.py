@@ -13,28 +13,18 @@ import pytest
 
 from ergosim.cli import main
 from ergosim.ergonomics.kwear import predict
+from ergosim.experiment.csv_files import ALLOCATION_COLUMNS, FAILURE_COLUMNS
+from ergosim.experiment.kwear_state import read_state
+from ergosim.experiment.scenario import load_scenario, scenario_config
+from ergosim.experiment.summary import summarise
+from ergosim.experiment.summary_text import summary_text
 from ergosim.posture import HUMAN_JOINTS, KWEAR_JOINTS
-from ergosim.twin.kwear_state import read_state
 from ergosim.twin.records import Allocation, Failure, RepetitionOutcome, SubjectRun, TickLog
-from ergosim.twin.report import ALLOCATION_COLUMNS, FAILURE_COLUMNS, summarise
-from ergosim.twin.scenariofile import load_scenario, scenario_config
-from ergosim.twin.summary_text import summary_text
 from ergosim.viz import RecordingReader
 from ergosim.worker.stream import MocapStream
 from ergosim.worker.subjects import make_subjects
 
 ROOT = Path(__file__).resolve().parents[1]
-
-
-@pytest.fixture(scope="module")
-def forced_run(tmp_path_factory):
-    """The issue's first example, shortened: L moved out of the worker's reach (l_xy=0.14,0.88). The robot's
-    hyper-arcs cost 50 (the §7.1 figure) so that the planner offers every action to the worker first and
-    each repetition's a2 is a worker failure then a forced robot action, whatever the robot's timing."""
-    out = tmp_path_factory.mktemp("forced") / "out"
-    code = main(["run", "multi-subject", "--subjects", "1", "--reps", "2", "--mode", "hrc", "--jobs", "1",
-                 "--quiet", "--set", "scene.l_xy=0.14,0.88", "--set", "robot_cost=50", "--out", str(out)])
-    return code, out
 
 
 def _rows(path: Path) -> list[dict]:
@@ -45,8 +35,8 @@ def _rows(path: Path) -> list[dict]:
 def test_forced_robot_actions_count_in_the_robot_share(forced_run):
     """The worker cannot reach L, its a2 attempt fails and the robot does a2 in every repetition: the old
     robot share said 0 % (0/8); every completed a2 is the robot's."""
-    code, out = forced_run
-    assert code == 0
+    out = forced_run.out
+    assert forced_run.code == 0
     m = json.loads((out / "summary.json").read_text())["modes"]["hrc"]
     assert m["repetitions_completed"] == 2
     assert m["forced_robot_actions"] == 2 and m["forced_human_actions"] == 0
@@ -58,7 +48,7 @@ def test_forced_robot_actions_count_in_the_robot_share(forced_run):
 
 
 def test_allocations_csv_has_a_row_per_attempt_with_its_status(forced_run):
-    _, out = forced_run
+    out = forced_run.out
     rows = _rows(out / "allocations.csv")
     assert tuple(rows[0]) == ALLOCATION_COLUMNS
     a2 = [r for r in rows if r["action"] == "a2" and r["repetition"] == "1"]
@@ -69,7 +59,7 @@ def test_allocations_csv_has_a_row_per_attempt_with_its_status(forced_run):
 
 
 def test_failures_csv_and_the_recording_log_hold_every_failure(forced_run, tmp_path):
-    _, out = forced_run
+    out = forced_run.out
     rows = _rows(out / "failures.csv")
     assert tuple(rows[0]) == FAILURE_COLUMNS
     assert len(rows) == 2
@@ -79,19 +69,18 @@ def test_failures_csv_and_the_recording_log_hold_every_failure(forced_run, tmp_p
         assert re.search(r"cm short", r["message"])
 
 
-def test_failures_reach_the_recording_text_log(tmp_path):
-    out, rrd = tmp_path / "o", tmp_path / "r.rrd"
-    code = main(["run", "multi-subject", "--subjects", "1", "--reps", "1", "--mode", "hrc", "--jobs", "1",
-                 "--quiet", "--set", "scene.l_xy=0.14,0.88", "--out", str(out), "--rrd", str(rrd)])
-    assert code == 0
-    _, texts = RecordingReader(rrd).texts("allocation/log")
+def test_failures_reach_the_recording_text_log(forced_run):
+    """The forced run's two failed a2 attempts (one a repetition) are in the recording's text log."""
+    assert forced_run.code == 0
+    _, texts = RecordingReader(forced_run.rrd).texts("allocation/log")
     failed = [t for t in texts if t.startswith("failed:")]
-    assert len(failed) == 1 and "a2 by human failed" in failed[0]
+    assert len(failed) == len(_rows(forced_run.out / "failures.csv")) == 2
+    assert all("a2 by human failed" in t for t in failed)
     assert len(texts) > len(failed)  # the decisions are there too
 
 
 def test_printed_summary_labels_rows_names_the_mode_and_warns(forced_run):
-    _, out = forced_run
+    out = forced_run.out
     summary = json.loads((out / "summary.json").read_text())
     cfg = scenario_config("multi-subject")
     text = summary_text(summary, cfg)
@@ -124,7 +113,7 @@ def test_robot_and_worker_failures_count_their_own_agent():
 
 
 def test_kwear_state_file_prices_the_plan_with_eq_9_to_11(forced_run, capsys):
-    _, out = forced_run
+    out = forced_run.out
     path = out / "kwear_state_s0_hrc.json"
     state = read_state(path)
     doc = json.loads(path.read_text())
@@ -174,10 +163,9 @@ def test_plan_done_takes_labels_and_costs_are_what_ifs(capsys):
     assert "--costs: unknown agent 'nobody'" in capsys.readouterr().err
 
 
-def test_rrd_subject_and_mode_choose_what_is_recorded(tmp_path):
-    out, rrd = tmp_path / "o", tmp_path / "r.rrd"
-    code = main(["run", "kwear-validation", "--subjects", "2", "--reps", "1", "--jobs", "1", "--quiet",
-                 "--out", str(out), "--rrd", str(rrd), "--rrd-subject", "1", "--rrd-mode", "rula"])
+def test_rrd_subject_and_mode_choose_what_is_recorded(kv_two_subjects):
+    """The shared run recorded with --rrd-subject 1 --rrd-mode rula (tests/conftest.py)."""
+    out, rrd, code = kv_two_subjects
     assert code == 0
     rows = [r for r in _rows(out / "ticks.csv") if r["subject"] == "1" and r["mode"] == "rula"]
     t, v = RecordingReader(rrd).scalars("ergonomics/kwear/shoulder")
@@ -213,7 +201,7 @@ def test_noise_scale_multiplies_the_sensor_noise():
 
 
 def test_noise_scale_reaches_the_twin():
-    from ergosim.twin.runner import build_rig  # noqa: PLC0415
+    from ergosim.experiment.runner import build_rig  # noqa: PLC0415
 
     scenario = load_scenario("kwear-validation", {"noise_scale": "0.5"})
     rig = build_rig(scenario, make_subjects(1, 0)[0], np.random.default_rng(0))

@@ -11,9 +11,9 @@ from own_product import write_product
 
 from ergosim.cli import main
 from ergosim.errors import ErgosimError
-from ergosim.scenes import cell_document
+from ergosim.experiment.scenario import load_scenario
+from ergosim.scenes import cell_document, cellfile
 from ergosim.scenes.cellfile import cell_keys
-from ergosim.twin.scenariofile import load_scenario
 
 # The names README and earlier releases gave (`ergosim run ... --set scene.NAME=...`), per paper cell.
 PAPER_NAMES = {
@@ -78,8 +78,8 @@ def test_one_name_may_set_several_fields():
     ("task.liaisons.g3.cost.robot", "0.5",
      lambda sc: all(o.cost_of("robot") == 0.5 for o in sc.task().operations if o.action == "g3")),
     # the protocol, bare or by its table
-    ("takt", "45", lambda sc: sc.protocol.takt == 45.0),
-    ("protocol.v_th", "0.7", lambda sc: sc.protocol.v_th == 0.7),
+    ("takt", "45", lambda sc: sc.protocol.pacing.takt == 45.0),
+    ("protocol.v_th", "0.7", lambda sc: sc.protocol.cost.v_th == 0.7),
     ("modes", "hrc,r-only", lambda sc: sc.protocol.modes == ("hrc", "r-only")),
     # the scenario's own fields: another task or workcell
     ("workcell", "gearbox", lambda sc: sc.protocol.scene == "gearbox"),
@@ -103,7 +103,7 @@ def test_another_task_and_workcell_by_file(tmp_path):
     ({"scene.parts.housing.slots.nope.at": "0,0,0"}, "unknown key 'parts.housing.slots.nope.at'"),
     ({"scene.parts.housing.xy": "0.7"}, "has 1 value, expected 2"),
     ({"scene.worker.hand": "both"}, "must be right or left"),
-    ({"task.agents.robot.cost": "cheap"}, "expected a number"),
+    ({"task.agents.robot.cost": "cheap"}, "task.agents.robot.cost='cheap' is not a number"),
     ({"task.liaisons.g9.agents": "human"}, "unknown task field 'liaisons.g9.agents'"),
     ({"task.liaisons.g2.agents": "nobody"}, "unknown agent 'nobody'"),
     ({"task.liaisons.g1.agents": "robot"}, "its gripper cannot take housing"),
@@ -124,3 +124,17 @@ def test_overrides_reach_the_command_line(capsys, tmp_path):
     err = capsys.readouterr().err
     assert code == 2 and err.count("\n") == 1 and "Traceback" not in err
     assert "ergosim/data/tasks/gearbox.toml (with task.liaisons.g1.agents=robot): g1" in err, err
+
+
+def test_workcell_overrides_are_parsed_once_and_win_over_a_subjects_body(monkeypatch):
+    """The override strings are converted and checked when they are set, not again for every subject's
+    workcell; a subject's body (typed fields) goes on top, except where an override set the same field."""
+    sc = load_scenario("kwear-validation", {"scene.l_xy": "0.40,-0.12", "scene.worker.stature": "1.70"})
+    coerced = []
+    real = cellfile._coerce
+    monkeypatch.setattr(cellfile, "_coerce", lambda *a: coerced.append(a) or real(*a))
+    for stature in (1.6, 1.8):
+        cell = sc.cell(**{"worker.stature": stature, "worker.human_scale": (("upper_arm", 1.05),)})
+        assert cell.part("L").xy == (0.40, -0.12) and cell.worker.stature == 1.70
+        assert dict(cell.worker.human_scale) == {"upper_arm": 1.05}
+    assert coerced == []

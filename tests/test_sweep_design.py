@@ -14,10 +14,10 @@ import ergosim.sweep as sweep_pkg
 import ergosim.sweep.units as units_mod
 from ergosim.cli import main
 from ergosim.errors import ConfigError
+from ergosim.experiment.scenario import scenario_path
 from ergosim.sweep.design import MAX_CELLS, load_sweep, set_string
 from ergosim.sweep.fingerprint import code_fingerprint
 from ergosim.sweep.units import plan_units, unit_id
-from ergosim.twin.scenariofile import scenario_path
 
 ROOT = Path(__file__).resolve().parents[1]
 MODULES = ["design", "units", "executors", "folder", "tables", "stats", "plots", "runner", "metrics",
@@ -57,7 +57,7 @@ def test_grid_is_the_full_product_first_key_slowest(tmp_path):
         {"scene.shelf_height": 1.45, "robot_cost": 25}]
     assert len(s.cells) == 6 and s.n_units == 6 * 2 * 2 * 2  # modes: the scenario's hrc and rula
     assert s.cells[0].overrides == {"scene.shelf_height": "1.3", "robot_cost": "25"}
-    assert s.scenarios[5].protocol.robot_cost == 50.0 and s.scenarios[0].protocol.repetitions == 1
+    assert s.scenarios[5].protocol.cost.robot_cost == 50.0 and s.scenarios[0].protocol.pacing.repetitions == 1
     assert s.scenarios[4].cell_overrides == {"shelf_height": "1.6"}
     assert s.name == "s" and s.modes == ("hrc", "rula") and s.subjects == (0, 1) and s.seeds == (0, 3)
 

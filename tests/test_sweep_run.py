@@ -61,6 +61,7 @@ def local(tmp_path_factory):
     return path, out, pq.read_table(out / "results.parquet")
 
 
+@pytest.mark.slow
 def test_results_have_one_row_per_unit_with_the_issue_columns(local):
     path, out, table = local
     sweep = load_sweep(path)
@@ -86,6 +87,7 @@ def test_results_have_one_row_per_unit_with_the_issue_columns(local):
     assert all(a["status"] == "done" or a["status"].startswith("failed:") for a in alloc)
 
 
+@pytest.mark.slow
 def test_cells_hold_means_and_intervals_of_their_units(local):
     _, out, table = local
     cells = pq.read_table(out / "cells.parquet").to_pylist()
@@ -99,6 +101,7 @@ def test_cells_hold_means_and_intervals_of_their_units(local):
         assert c["baseline"] is None and c["kwear_integral.wilcoxon_p"] is None  # one mode: no test
 
 
+@pytest.mark.slow
 def test_a_response_plot_per_axis_and_a_heat_map(local):
     _, out, _ = local
     names = sorted(p.name for p in out.glob("*.png"))
@@ -237,6 +240,7 @@ def test_a_failed_unit_is_recorded_and_the_sweep_goes_on(tmp_path, capsys):
     assert json.loads((out / "sweep.json").read_text())["units_run"] == 1
 
 
+@pytest.mark.slow
 def test_a_unit_equals_the_same_subject_in_ergosim_run(local, tmp_path, capsys):
     """One cell of the sweep against `ergosim run` with the same --set: the same numbers, paired."""
     _, sweep_out, table = local

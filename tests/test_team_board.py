@@ -16,7 +16,6 @@ from hypothesis import strategies as st
 
 from ergosim.errors import InfeasiblePlanError
 from ergosim.planner import bundled_task
-from ergosim.planner.outside import team_layout
 from ergosim.planner.team import team_assign
 from ergosim.twin.team_board import TeamBoard
 
@@ -179,7 +178,7 @@ def test_join_picks_the_operation_that_fits_what_is_there_now():
     board.finish(2)
     op = board.join(3, "a2")
     assert op is not None and set(graph.operation(op).children) <= set(graph.configuration(board.done))
-    assert board.holder_of(team_layout(graph).op_children[graph._op_index[op]][0]) == 3
+    assert board.holder_of(graph.children(graph.op_index[op])[0]) == 3
     board.finish(3)
     assert "a2" in {graph.operation(o).action for o in board.done}
 

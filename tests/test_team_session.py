@@ -12,10 +12,10 @@ import pytest
 
 from ergosim.cli import main
 from ergosim.errors import ConfigError
+from ergosim.experiment.scenario import load_scenario
 from ergosim.planner import bundled_task
 from ergosim.twin.allocator import Allocator
 from ergosim.twin.modes import Mode
-from ergosim.twin.scenariofile import load_scenario
 from ergosim.viz import RecordingReader
 from ergosim.viz.paths import ALLOCATION_LOG
 
@@ -123,11 +123,10 @@ def test_negotiation_refuses_high_wear_actions_and_still_completes(negotiating):
     assert summary["team"]["settings"]["w_time"] == 0.02 and summary["config"]["negotiation"] is True
 
 
-def test_sequential_defaults_keep_the_papers_summary(tmp_path):
-    out = tmp_path / "seq"
-    code = main(["run", "kwear-validation", "--subjects", "1", "--quiet", "--seed", "0", "--jobs", "1",
-                 "--out", str(out), "--reps", "1", "--mode", "hrc"])
-    assert code == 0
+def test_sequential_defaults_keep_the_papers_summary(kv_run):
+    """The shared run: 1 subject, seed 0, 1 repetition, hrc, exit status 0 (tests/conftest.py)."""
+    out = kv_run.out
+    assert kv_run.code == 0
     summary = json.loads((out / "summary.json").read_text())
     assert "team" not in summary and not (out / "team.json").exists()
     assert not {"execution", "w_time", "negotiation"} & set(summary["config"])

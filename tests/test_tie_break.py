@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from ergosim.errors import ConfigError
+from ergosim.experiment.scenario import load_scenario
 from ergosim.planner import bundled_task, call_inputs, paper_search
 from ergosim.planner.tie_break import PAPER_TIE_RULE, TIE_RULES, next_step, optimal_next_steps
-from ergosim.twin.scenariofile import load_scenario
 
 FREE = ("a2", "a3", "a4")
 

@@ -1,4 +1,4 @@
-"""What scripts/bench_sim.py measures (ergosim.twin.benchmark), not how fast: no timed test."""
+"""What scripts/bench_sim.py measures (ergosim.experiment.benchmark), not how fast: no timed test."""
 
 from __future__ import annotations
 
@@ -8,8 +8,9 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 
-from ergosim.twin.benchmark import bench_repetition
+from ergosim.experiment.benchmark import bench_repetition
 
 
 def test_one_repetition_is_timed_against_raw_stepping_of_the_same_simulated_time():
@@ -18,6 +19,7 @@ def test_one_repetition_is_timed_against_raw_stepping_of_the_same_simulated_time
     assert res["wall"] > 0 and res["raw_wall"] > 0 and res["failures"] == 0
 
 
+@pytest.mark.slow
 def test_script_writes_the_json_fields_scripts_rely_on(tmp_path):
     out = tmp_path / "bench.json"
     script = Path(__file__).resolve().parents[1] / "scripts" / "bench_sim.py"

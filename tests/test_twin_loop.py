@@ -15,10 +15,9 @@ import numpy as np
 import pytest
 
 from ergosim.cli import main
+from ergosim.experiment.runner import run_subject
+from ergosim.experiment.scenario import load_scenario
 from ergosim.posture import KWEAR_JOINTS
-from ergosim.twin.runner import run_subject
-from ergosim.twin.scenario_run import run_scenario
-from ergosim.twin.scenariofile import load_scenario
 from ergosim.viz import RecordingReader
 
 
@@ -41,7 +40,7 @@ def test_hrc_completes_every_assembly_through_the_scene(hrc_run):
         assert order[0] == "a1" and order[-1] == "a5"
     # ticks run at the ergonomics rate and KWear stays in [0, 1)
     t = run.ticks.column("t")
-    assert np.allclose(np.diff(t), 1.0 / cfg.ergonomics_rate)
+    assert np.allclose(np.diff(t), 1.0 / cfg.sensing.ergonomics_rate)
     assert np.all((run.ticks.kwear >= 0) & (run.ticks.kwear < 1))
 
 
@@ -66,9 +65,9 @@ def test_human_costs_are_eq_10_11_of_the_predicted_kwear(hrc_run):
         for action, v_hat in d.v_hat.items():
             alpha = np.asarray(res.alphas[action])
             np.testing.assert_allclose(v_hat, 1 - alpha * (1 - d.v_now), rtol=0, atol=1e-12)  # eq. 9
-            expected = float(np.sum(v_hat + cfg.gamma * (v_hat >= cfg.v_th)))  # eq. 10-11
+            expected = float(np.sum(v_hat + cfg.cost.gamma * (v_hat >= cfg.cost.v_th)))  # eq. 10-11
             assert d.costs[(action, "human")] == pytest.approx(expected, abs=1e-12)
-            assert d.costs[(action, "robot")] == cfg.robot_cost
+            assert d.costs[(action, "robot")] == cfg.cost.robot_cost
 
 
 def test_h_only_never_dispatches_to_the_robot(hrc_run):
@@ -78,7 +77,7 @@ def test_h_only_never_dispatches_to_the_robot(hrc_run):
     assert {a.agent for a in run.allocations} == {"human"}
     # the worker waits for the takt before the next repetition (paper §7.2)
     starts = [min(a.t_start for a in run.allocations if a.repetition == r) for r in (1, 2)]
-    assert starts[1] == pytest.approx(cfg.takt, abs=1.0 / cfg.mocap_rate)
+    assert starts[1] == pytest.approx(cfg.pacing.takt, abs=1.0 / cfg.sensing.mocap_rate)
 
 
 def _repetition_starts(run) -> list[float]:
@@ -92,24 +91,24 @@ def test_hrc_is_paced_by_the_robot_unless_takt_paced(takt_paced):
     starts every mode's repetitions at their takt slot."""
     sc = load_scenario("multi-subject", {"repetitions": "2", "modes": "hrc",
                                          "takt_paced": str(takt_paced).lower()})
-    assert sc.protocol.takt_paced is takt_paced
+    assert sc.protocol.pacing.takt_paced is takt_paced
     run = run_subject(sc, 0, 0, ("hrc",)).runs["hrc"]
     first_end = max(a.t_end for a in run.allocations if a.repetition == 1)
-    assert first_end < sc.protocol.takt - 5.0  # shorter than the takt, so the two readings differ
-    expected = sc.protocol.takt if takt_paced else first_end
-    assert _repetition_starts(run)[1] == pytest.approx(expected, abs=1.0 / sc.protocol.mocap_rate)
+    assert first_end < sc.protocol.pacing.takt - 5.0  # shorter than the takt, so the two readings differ
+    expected = sc.protocol.pacing.takt if takt_paced else first_end
+    assert _repetition_starts(run)[1] == pytest.approx(expected, abs=1.0 / sc.protocol.sensing.mocap_rate)
 
 
 def test_the_multi_subject_scenario_paces_hrc_by_the_robot():
-    assert load_scenario("multi-subject").protocol.takt_paced is False
+    assert load_scenario("multi-subject").protocol.pacing.takt_paced is False
 
 
 def test_every_mode_covers_the_production_schedule(hrc_run):
     """A worker who finishes early rests to the end of repetitions × takt, so load proxies compare."""
     cfg, res = hrc_run
     for run in res.runs.values():
-        assert run.horizon == pytest.approx(2 * cfg.takt)
-        assert run.ticks.column("t")[-1] >= run.horizon - 1.0 / cfg.ergonomics_rate
+        assert run.horizon == pytest.approx(2 * cfg.pacing.takt)
+        assert run.ticks.column("t")[-1] >= run.horizon - 1.0 / cfg.sensing.ergonomics_rate
         assert run.kwear_integral <= run.kwear_integral_run
 
 
@@ -127,15 +126,13 @@ def test_robot_rests_the_worker(hrc_run):
         assert np.all(np.diff(v, axis=0)[both] < 0)
 
 
-def _summary(tmp_path, jobs, name):
-    sc = load_scenario("kwear-validation", {"subjects": "2", "repetitions": "1", "modes": "hrc"})
-    out = tmp_path / name
-    run_scenario(sc, seed=0, out=out, jobs=jobs, progress=False)
-    return out
-
-
-def test_same_seed_same_results_serial_or_parallel(tmp_path):
-    a, b = _summary(tmp_path, 1, "serial"), _summary(tmp_path, 2, "parallel")
+@pytest.mark.slow
+def test_same_seed_same_results_serial_or_parallel(kv_two_subjects, tmp_path):
+    """The shared two-subject run (one process, tests/conftest.py) against the same run in two processes."""
+    a, b = kv_two_subjects.out, tmp_path / "parallel"
+    assert kv_two_subjects.code == 0
+    assert main(["run", "kwear-validation", "--subjects", "2", "--reps", "1", "--jobs", "2", "--quiet",
+                 "--out", str(b)]) == 0
     for name in ("summary.json", "allocations.csv", "ticks.csv"):
         assert (a / name).read_bytes() == (b / name).read_bytes(), name
     summary = json.loads((a / "summary.json").read_text())
@@ -168,10 +165,8 @@ def test_cli_error_has_no_traceback_in_a_subprocess(tmp_path):
     assert "unknown scenario 'no-such-scenario'" in proc.stderr and "Traceback" not in proc.stderr
 
 
-def test_recording_of_a_run_matches_its_ticks_file(tmp_path):
-    out, rrd = tmp_path / "out", tmp_path / "run.rrd"
-    code = main(["run", "kwear-validation", "--reps", "1", "--mode", "hrc", "--out", str(out),
-                 "--rrd", str(rrd), "--quiet", "--jobs", "1"])
+def test_recording_of_a_run_matches_its_ticks_file(kv_run):
+    out, rrd, code = kv_run  # the shared run (tests/conftest.py)
     assert code == 0
     verify = subprocess.run([sys.executable, "-m", "rerun", "rrd", "verify", str(rrd)], check=False,
                             capture_output=True, text=True)

@@ -8,11 +8,13 @@ import json
 import numpy as np
 import pytest
 
+from ergosim.atomic import write_json
 from ergosim.errors import ConfigError
+from ergosim.experiment.csv_files import write_allocations, write_ticks
+from ergosim.experiment.scenario import scenario_config
+from ergosim.experiment.summary import summarise, wilcoxon_between
 from ergosim.posture import KWEAR_JOINTS
 from ergosim.twin.records import TICK_COLUMNS, Allocation, SubjectRun, TickLog
-from ergosim.twin.report import summarise, wilcoxon_between, write_allocations, write_summary, write_ticks
-from ergosim.twin.scenariofile import scenario_config
 
 KWEAR_COLUMNS = [TICK_COLUMNS.index(f"kwear_{j}") for j in KWEAR_JOINTS]
 
@@ -64,7 +66,7 @@ def test_allocation_table_and_files(tmp_path):
     summary = summarise("kwear-validation", 0, runs, actions=["a1", "a2", "a3", "a4", "a5"])
     assert summary["allocation_table"]["kwear"] == [["H", "R", "H", "H", "R"]] * 2
     assert summary["allocation_table"]["rula"] == [["H"] * 5] * 2
-    write_summary(tmp_path / "summary.json", summary)
+    write_json(tmp_path / "summary.json", summary)
     assert json.loads((tmp_path / "summary.json").read_text())["seed"] == 0
     write_allocations(tmp_path / "allocations.csv", runs["hrc"][0].allocations)
     rows = list(csv.DictReader((tmp_path / "allocations.csv").open()))
@@ -78,7 +80,7 @@ def test_allocation_table_and_files(tmp_path):
 def test_scenarios_validate_and_reject_bad_values():
     cfg = scenario_config("multi-subject")
     cfg.validate()
-    assert cfg.rula_threshold == pytest.approx(7.2)
+    assert cfg.cost.rula_threshold == pytest.approx(7.2)
     with pytest.raises(ConfigError, match="unknown scenario 'nope'; valid scenarios: gearbox, "):
         scenario_config("nope")
 

@@ -10,6 +10,7 @@ import signal
 import subprocess
 import sys
 import time
+import types
 from pathlib import Path
 
 import matplotlib.image
@@ -19,10 +20,11 @@ import pytest
 
 from ergosim.cli import main
 from ergosim.errors import ConfigError
+from ergosim.experiment import film
+from ergosim.experiment.runner import run_subject, scenario_subject, subject_cell, subject_session
+from ergosim.experiment.scenario import load_scenario
 from ergosim.posture import KWEAR_JOINTS
 from ergosim.scenes import build_cell
-from ergosim.twin.runner import run_subject, subject_cell
-from ergosim.twin.scenariofile import load_scenario
 from ergosim.video import (
     FrameInfo,
     Mp4Writer,
@@ -38,6 +40,7 @@ from ergosim.video import (
     write_run_video,
 )
 from ergosim.video.timeline import Event
+from ergosim.viz.reason import reason_text
 from ergosim.viz.styles import JOINT_COLORS
 from ergosim.worker.subjects import make_subjects
 
@@ -47,7 +50,27 @@ def recorded():
     """One real kwear-validation repetition (hrc) with the body poses kept, and the cell it ran in."""
     sc = load_scenario("kwear-validation", {"repetitions": "1", "modes": "hrc"})
     res = run_subject(sc, 0, 0, ("hrc",), record_mode="hrc")
-    return sc, res.runs["hrc"], subject_cell(sc, make_subjects(1, 0)[0])
+    return sc, res.runs["hrc"], subject_cell(sc, scenario_subject(sc, 0, 0))
+
+
+def test_the_filmed_subject_is_the_simulated_one(recorded, monkeypatch, tmp_path):
+    """A video shows the body the run simulated. kwear-validation's population is all women
+    (female_fraction = 1) at its own pace; a subject drawn with the population defaults is someone else."""
+    sc, run, _ = recorded
+    filmed = {}
+
+    def capture(cell, run, request, **_kw):
+        filmed["cell"] = cell
+
+    monkeypatch.setattr(film, "write_run_video", capture)
+    result = types.SimpleNamespace(subject=0, name="S01", runs={"hrc": run})
+    film.film_subject(sc, 0, result, VideoRequest(tmp_path / "run.mp4", mode="hrc"))
+    simulated = subject_session(sc, 0, 0, "h-only", calibrate=False).cell.model
+    model = filmed["cell"].model
+    assert np.array_equal(model.body_pos, simulated.body_pos) and np.array_equal(model.geom_size,
+                                                                                 simulated.geom_size)
+    default = subject_cell(sc, make_subjects(1, 0)[0]).model  # the body the video showed before the fix
+    assert not np.array_equal(default.body_pos, simulated.body_pos)
 
 
 def test_pose_renderer_draws_what_mujoco_draws_from_the_live_state():
@@ -99,7 +122,7 @@ def test_timeline_draws_the_runs_own_records(recorded):
     assert (info.action, info.agent, info.repetition) == (a.action, a.agent, 1)
     assert info.action_text == f"{cell.actions[a.action].kind} {cell.actions[a.action].part}"
     decision = next(d for d in run.decisions if d.time <= info.time and d.action == a.action)
-    assert info.events == (Event(decision.time, "decision", decision.reason, decision.agent),)
+    assert info.events == (Event(decision.time, "decision", reason_text(decision), decision.agent),)
     t, kw = run.ticks.column("t"), run.ticks.kwear
     k = len(t) // 2
     assert np.allclose(tl.at(float(t[k]), hold=0).kwear, kw[k])
@@ -115,7 +138,7 @@ def test_two_seconds_of_a_run_to_mp4_and_back(recorded, tmp_path):
     a = next(x for x in run.allocations if x.agent == "human")
     path = tmp_path / "clip.mp4"
     stats = write_run_video(cell, run, VideoRequest(path, width=320, height=180), header="test",
-                            window=(a.t_start, a.t_start + 2.0))
+                            window=(a.t_start, a.t_start + 2.0), workers=0)  # rendered here: the same MP4
     meta, frames = read_mp4(path)
     assert stats.frames == 61 == len(frames) and stats.seconds == pytest.approx(61 / 30)
     assert meta["size"] == (320, 180) and meta["fps"] == 30.0 and meta["codec"] == "h264"
@@ -189,10 +212,12 @@ def _run(out: Path, *extra: str) -> int:
                  "--out", str(out), *extra])
 
 
-def test_outputs_are_byte_identical_with_and_without_video(tmp_path, capsys):
-    """Issue 16 proof: the video is made from what the run recorded, after it; no output changes."""
-    plain, filmed = tmp_path / "plain", tmp_path / "filmed"
-    assert _run(plain) == 0
+@pytest.mark.slow
+def test_outputs_are_byte_identical_with_and_without_video(kv_run, tmp_path, capsys):
+    """Issue 16 proof: the video is made from what the run recorded, after it; no output changes. The plain
+    run is the shared one (tests/conftest.py: the same arguments)."""
+    plain, filmed = kv_run.out, tmp_path / "filmed"
+    assert kv_run.code == 0
     assert _run(filmed, "--video", str(tmp_path / "run.mp4"), "--video-speed", "40", "--video-size",
                 "320x180", "--video-reps", "1") == 0
     assert "video: " in capsys.readouterr().out
@@ -236,6 +261,7 @@ def test_render_writes_a_still_from_a_named_view(tmp_path, capsys):
     assert main(["render", "gearbox", "--out", str(tmp_path / "cell.jpg")]) == 2
 
 
+@pytest.mark.slow
 def test_sigterm_while_filming_keeps_the_results_and_leaves_no_partial_video(tmp_path):
     out, video = tmp_path / "out", tmp_path / "run.mp4"
     env = {**os.environ, "MUJOCO_GL": "egl"}
@@ -257,7 +283,8 @@ def test_sigterm_while_filming_keeps_the_results_and_leaves_no_partial_video(tmp
     assert not [p for p in tmp_path.iterdir() if p.name not in ("out",)]  # no run.mp4, no .tmp.mp4
 
 
-@pytest.mark.parametrize("package", ["ergosim.video", "ergosim.twin.plots"])
+@pytest.mark.parametrize("package", ["ergosim.video", "ergosim.experiment.plots", "ergosim.experiment",
+                                     "ergosim.twin"])
 def test_every_public_name_exists(package):
     module = importlib.import_module(package)
     assert module.__all__

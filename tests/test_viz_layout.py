@@ -13,11 +13,10 @@ import numpy as np
 import pytest
 from rerun.chunk import RrdReader
 
-from ergosim.cli import main
+from ergosim.experiment.runner import subject_cell
+from ergosim.experiment.scenario import load_scenario, scenario_names
 from ergosim.posture import ANGLE_NAMES, KWEAR_JOINTS
 from ergosim.scenes import build_cell
-from ergosim.twin.runner import subject_cell
-from ergosim.twin.scenariofile import load_scenario, scenario_names
 from ergosim.viz import RecordingReader, default_body_groups, open_recording
 from ergosim.viz.blueprint import ARM_ANGLES, ARM_RANGE, KWEAR_RANGE, RULA_RANGE, TRUNK_RANGE
 from ergosim.viz.eye import _FOV_DEG, _visible_bounds, frame_scene
@@ -27,15 +26,11 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 @pytest.fixture(scope="module")
-def recorded(tmp_path_factory):
-    """A real run with a failure in it (L beyond the reach of a worker whose feet stay planted), recorded."""
-    out = tmp_path_factory.mktemp("layout")
-    rrd = out / "run.rrd"
-    assert main(["run", "multi-subject", "--subjects", "1", "--reps", "2", "--mode", "hrc", "--jobs", "1",
-                 "--quiet", "--set", "scene.l_xy=0.14,0.88", "--set", "scene.worker.standing_area=0,0,0,0",
-                 "--set", "scene.worker.max_turn=0", "--out", str(out / "out"),
-                 "--rrd", str(rrd)]) == 0
-    return out / "out", rrd
+def recorded(forced_run):
+    """A real run with a failure in it (L beyond the reach of a worker whose feet stay planted), recorded: the
+    shared forced run (tests/conftest.py)."""
+    assert forced_run.code == 0
+    return forced_run.out, forced_run.rrd
 
 
 def _blueprints(rrd: Path) -> list[dict[str, list]]:

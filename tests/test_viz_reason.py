@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ergosim.viz import allocation_reason
+from ergosim.twin.allocator import Basis, Decision
+from ergosim.viz import allocation_reason, reason_text
 
 V_TH = np.full(5, 0.8)  # shoulder, elbow, wrist, trunk, neck
 COSTS = {("a1", "human"): 0.9, ("a1", "robot"): 50.0, ("a2", "human"): 100.83, ("a2", "robot"): 50.0}
@@ -40,3 +41,21 @@ def test_a_single_candidate_and_missing_predictions():
     assert reason(("a5", "human"), v_hat={}, costs=costs) == "a5 → human: only human can do a5"
     costs = {("a3", "human"): 50.0, ("a3", "robot"): 50.0}
     assert reason(("a3", "human"), v_hat={}, costs=costs) == "a3 → human: cost human 50.00 = robot 50.00"
+
+
+def _decision(index, v_th=None, scale=1.0, agent="robot", **kw):
+    basis = Basis("m", index, v_th, scale, "human", ("robot",))
+    return Decision(0.0, 1, np.zeros(5), V_HAT, COSTS, "a2", agent, "op2", True, basis, **kw)
+
+
+def test_a_decision_is_data_and_viz_words_it():
+    """The allocator records why (v_hat, costs, the basis); reason_text says it, per risk index."""
+    assert reason_text(_decision(None)) == "a2 → robot: m mode"
+    assert reason_text(_decision("kwear", 0.8)) == reason(("a2", "robot"))
+    rula = _decision("rula-static", 0.8, scale=9.0)
+    assert reason_text(rula).startswith(f"a2 → robot: RULA G={V_HAT['a2'][0] * 9:g} ")
+    other = _decision("someone-elses", 0.8)  # an index without its own words: the threshold sentence
+    assert reason_text(other) == reason(("a2", "robot"))
+    team = _decision(None, excess=1.5, early=True, part="S1")
+    assert reason_text(team) == ("a2 → robot: m mode; the robot is idle: best ready operation, plan +1.50; "
+                                 "fetches S1 while the rest goes on")

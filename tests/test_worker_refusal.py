@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from ergosim.twin.negotiation import Negotiator
-from ergosim.twin.scenario import ScenarioConfig
+from ergosim.twin.protocol import ScenarioConfig
 from ergosim.twin.team_setup import refusal_model
 from ergosim.worker.refusal import RefusalModel
 
@@ -21,12 +21,12 @@ def test_probability_rises_with_the_most_loaded_joint():
 
 
 def test_tolerance_per_subject_and_seeded():
-    cfg = ScenarioConfig("cell", "task", 1, 1, ("hrc",), 2.5)
+    cfg = ScenarioConfig.of("cell", "task", subjects=1, repetitions=1, modes=("hrc",), robot_cost=2.5)
     a, b = refusal_model(cfg, 0, 0), refusal_model(cfg, 0, 1)
     assert a == refusal_model(cfg, 0, 0) and a.tolerance != b.tolerance
     taus = [refusal_model(cfg, s, 0).tolerance for s in range(200)]
-    assert np.mean(taus) == pytest.approx(cfg.refusal_tolerance, abs=0.02)
-    assert np.std(taus) == pytest.approx(cfg.refusal_tolerance_sd, rel=0.25)
+    assert np.mean(taus) == pytest.approx(cfg.team.refusal_tolerance, abs=0.02)
+    assert np.std(taus) == pytest.approx(cfg.team.refusal_tolerance_sd, rel=0.25)
 
 
 class _Index:

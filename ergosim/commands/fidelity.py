@@ -13,12 +13,14 @@ written either way), 2 on bad input.
 from __future__ import annotations
 
 import argparse
-import sys
+import logging
 from pathlib import Path
 
 from ergosim.errors import ConfigError
 
 __all__ = ["add_parser", "run"]
+
+log = logging.getLogger(__name__)
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
@@ -49,7 +51,7 @@ def run(args) -> int:
     if out.exists() and not out.is_dir():
         raise ConfigError(f"{out} exists and is not a directory", where="--out")
     runs = run_experiments(plan, out, seeds=args.seeds, jobs=args.jobs,
-                           log=lambda msg: print(f"running {msg}", file=sys.stderr, flush=True))
+                           log=lambda msg: log.info("running %s", msg))
     rows = fidelity_rows(runs, bounds)
     write_report(out, rows, runs, plan)
     print(report_text(rows, plan))

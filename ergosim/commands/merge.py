@@ -22,19 +22,20 @@ def add_parser(sub) -> argparse.ArgumentParser:
     )
     p.add_argument("dirs", nargs="+", metavar="DIR", help="run folders written by ergosim run")
     p.add_argument("--out", required=True, help="the merged run folder (not one of the shards)")
-    p.add_argument("--quiet", action="store_true", help="print only where the results are")
+    p.add_argument("-q", "--quiet", action="store_true",
+                   help="print only where the results are; log warnings only")
     return p
 
 
 def run(args) -> int:
-    from ergosim.twin.run_merge import merge_runs  # noqa: PLC0415 - keep `ergosim --help` fast
-    from ergosim.twin.scenario import ScenarioConfig  # noqa: PLC0415
-    from ergosim.twin.scenario_run import EXIT_ABANDONED  # noqa: PLC0415
-    from ergosim.twin.summary_text import summary_text  # noqa: PLC0415
+    from ergosim.experiment.run_merge import merge_runs  # noqa: PLC0415 - keep `ergosim --help` fast
+    from ergosim.experiment.scenario_run import EXIT_ABANDONED  # noqa: PLC0415
+    from ergosim.experiment.summary_text import summary_text  # noqa: PLC0415
+    from ergosim.twin.protocol import protocol_from_record  # noqa: PLC0415
 
     result = merge_runs([Path(d) for d in args.dirs], Path(args.out))
     if not args.quiet:
-        cfg = ScenarioConfig(**{k: tuple(v) if isinstance(v, list) else v for k, v in result.config.items()})
+        cfg = protocol_from_record(result.config)
         print(summary_text(result.summary, cfg))
     first, last = result.subjects.start, result.subjects.stop - 1
     print(f"merged {len(args.dirs)} run folder(s), subjects {first}..{last}: {result.out.resolve()}")

@@ -5,7 +5,7 @@ ergosim plan corner-joint[:multi-subject|:kwear-validation] [--state kwear_state
 ergosim plan TASK [--costs human.a2=3.1,robot.a3=0.5]
 ergosim plan --generate sequential:N|scarce:N --agents K [--seed S] [--json]
 
-``--state`` takes a KWear state file as ``ergosim run`` writes it (:mod:`ergosim.twin.kwear_state`): the
+``--state`` takes a KWear state file as ``ergosim run`` writes it (:mod:`ergosim.experiment.kwear_state`): the
 worker's KWear V and calibrated α. Every human hyper-arc of a remaining action is then priced with eq. 9-11
 (V̂ = 1 − α(1 − V); c = Σ_i V̂_i + Γ [V̂_i ≥ V_th]) and every robot hyper-arc with the run's c_r, which is the
 allocation the twin would make from that state. ``--costs`` overrides single (agent, action) costs after
@@ -122,8 +122,7 @@ def resolve_done(graph: AndOrGraph, items: list[str]) -> list[str]:
 
 def parse_costs(text: str, graph: AndOrGraph) -> dict[tuple[str, str], float]:
     """``human.a2=3.1,robot.a3=0.5`` -> {("a2", "human"): 3.1, ("a3", "robot"): 0.5}."""
-    import math  # noqa: PLC0415
-
+    from ergosim.overrides import finite_float  # noqa: PLC0415
     from ergosim.planner.agents import COST_MAX  # noqa: PLC0415
 
     agents = [a.name for a in graph.agents]
@@ -141,11 +140,8 @@ def parse_costs(text: str, graph: AndOrGraph) -> dict[tuple[str, str], float]:
         if action not in graph.actions:
             raise ConfigError(f"unknown action {action!r} in {item!r}; actions are "
                               f"{', '.join(graph.actions)}", where="--costs")
-        try:
-            value = float(raw)
-        except ValueError:
-            raise ConfigError(f"{item!r}: {raw.strip()!r} is not a number", where="--costs") from None
-        if not (math.isfinite(value) and 0 <= value <= COST_MAX):
+        value = finite_float(raw.strip(), key.strip(), where="--costs")
+        if not 0 <= value <= COST_MAX:
             raise ConfigError(f"{item!r}: a cost must be finite, >= 0 and <= {COST_MAX:g}", where="--costs")
         out[(action, agent)] = value
     return out
@@ -153,7 +149,7 @@ def parse_costs(text: str, graph: AndOrGraph) -> dict[tuple[str, str], float]:
 
 def state_costs_for(graph: AndOrGraph, path: str, done: list[str]) -> dict[tuple[str, str], float]:
     """Costs of eq. 9-11 from the KWear state file ``path`` for the actions not yet done."""
-    from ergosim.twin.kwear_state import read_state, state_costs  # noqa: PLC0415
+    from ergosim.experiment.kwear_state import read_state, state_costs  # noqa: PLC0415
 
     state = read_state(path)
     humans = [a.name for a in graph.agents if a.kind == "human"]

@@ -44,7 +44,7 @@ def add_parser(sub) -> argparse.ArgumentParser:
 
 
 def run(args) -> int:
-    from ergosim.twin.plots import write_plots  # noqa: PLC0415 - keep `ergosim --help` fast
+    from ergosim.experiment.plots import write_plots  # noqa: PLC0415 - keep `ergosim --help` fast
 
     folder = Path(args.folder)
     if not folder.is_dir():

@@ -18,7 +18,7 @@ __all__ = ["add_parser", "run"]
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
-    from ergosim.twin.scenariofile import scenario_names  # noqa: PLC0415 - keep `ergosim --help` fast
+    from ergosim.experiment.scenario import scenario_names  # noqa: PLC0415 - keep `ergosim --help` fast
 
     p = sub.add_parser(
         "render", help="render a still of a scenario's workcell (PNG) from one of its camera views",
@@ -38,8 +38,8 @@ def run(args) -> int:
     import matplotlib.image  # noqa: PLC0415
 
     from ergosim.atomic import write_bytes  # noqa: PLC0415
+    from ergosim.experiment.scenario import load_scenario  # noqa: PLC0415
     from ergosim.scenes import build_cell, render_workcell  # noqa: PLC0415
-    from ergosim.twin.scenariofile import load_scenario  # noqa: PLC0415
     from ergosim.video.frames import open_renderer  # noqa: PLC0415
     from ergosim.video.run_video import parse_size  # noqa: PLC0415
 

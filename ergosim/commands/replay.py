@@ -67,21 +67,30 @@ def _kwear_params(args):
     return ParamStore(args.store).load(args.worker).kwear, args.worker
 
 
-def _load(path: Path, map_file: str | None):
-    from ergosim.worker.bvh import load_bvh  # noqa: PLC0415
+def _load(path: Path, map_file: str | None, rate: float):
+    """The recording at the frames the ticks at ``rate`` [Hz] use: the others are never mapped."""
+    from ergosim.worker import tick_indices  # noqa: PLC0415
+    from ergosim.worker.bvh import recording_from_data  # noqa: PLC0415
     from ergosim.worker.bvh_map_file import read_name_map  # noqa: PLC0415
+    from ergosim.worker.bvh_mapping import map_skeleton  # noqa: PLC0415
+    from ergosim.worker.bvh_parse import parse_bvh  # noqa: PLC0415
 
     name_map = read_name_map(map_file) if map_file else None
     if not path.exists():
         raise RecordingError("no such file", where=str(path))
     if path.is_dir():
         raise RecordingError("is a directory, expected a BVH file", where=str(path))
-    return load_bvh(path, name_map=name_map)
+    data = parse_bvh(path)
+    map_skeleton(data, name_map)  # a skeleton it cannot map is the first error, as for load_bvh
+    if rate > data.rate_hz:
+        raise ConfigError(f"ergonomics rate {rate:g} Hz is above the recording's frame rate "
+                          f"{data.rate_hz:g} Hz", where="--rate")
+    return recording_from_data(data, name_map, frames=tick_indices(data.n_frames, data.rate_hz, rate))
 
 
 def side_angles(recording, side: str) -> np.ndarray:
-    """(n, 14) RULA input for one ``side``: trunk and neck, then that arm's angles (same anatomical signs,
-    ergosim.posture). RecordingError if the file has no such arm."""
+    """(frames, 14) RULA input for one ``side``: trunk and neck, then that arm's angles (same anatomical
+    signs, ergosim.posture). RecordingError if the file has no such arm."""
     from ergosim.posture import ANGLE_NAMES, ARM  # noqa: PLC0415
 
     if side == "right":
@@ -183,8 +192,8 @@ def _record(path: str, traces: dict, name: str) -> None:
 
 def run(args) -> int:
     from ergosim.atomic import write_json  # noqa: PLC0415
-    from ergosim.twin.plots import kwear_timeline  # noqa: PLC0415
-    from ergosim.worker import replay  # noqa: PLC0415
+    from ergosim.experiment.plots import kwear_timeline  # noqa: PLC0415
+    from ergosim.worker import replay_ticks  # noqa: PLC0415
 
     if not (math.isfinite(args.rate) and args.rate > 0):
         raise ConfigError(f"must be a positive number of Hz, got {args.rate:g}", where="--rate")
@@ -196,12 +205,10 @@ def run(args) -> int:
     if args.rrd is not None and Path(args.rrd).is_dir():
         raise ConfigError(f"{args.rrd} is a directory; expected the path of the .rrd file to write",
                           where="--rrd")
-    recording = _load(path, args.map)
-    if args.rate > recording.rate_hz:
-        raise ConfigError(f"ergonomics rate {args.rate:g} Hz is above the recording's frame rate "
-                          f"{recording.rate_hz:g} Hz", where="--rate")
+    recording = _load(path, args.map, args.rate)
     sides = ("right", "left") if args.side == "both" else (args.side,)
-    traces = {s: replay(side_angles(recording, s), recording.rate_hz, params, rate=args.rate) for s in sides}
+    traces = {s: replay_ticks(side_angles(recording, s), recording.frames, params, rate=args.rate)
+              for s in sides}
     first = traces[sides[0]]
     if first.n == 0:
         raise RecordingError(f"the recording lasts {recording.n_frames / recording.rate_hz:.3g} s, shorter "

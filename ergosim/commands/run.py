@@ -9,8 +9,8 @@ summary, the printed text and ``run.json`` say which and why); 130 / 143 interru
 from __future__ import annotations
 
 import argparse
+import logging
 import os
-import sys
 from pathlib import Path
 
 from ergosim.commands.plot import add_plot_subject_argument, parse_subjects
@@ -20,10 +20,12 @@ from ergosim.overrides import parse_assignments
 
 __all__ = ["add_parser", "run", "subject_range"]
 
+log = logging.getLogger(__name__)
+
 
 def add_parser(sub) -> argparse.ArgumentParser:
+    from ergosim.experiment.scenario import scenario_names  # noqa: PLC0415
     from ergosim.twin.modes import mode_names  # noqa: PLC0415 - keep `ergosim --help` fast
-    from ergosim.twin.scenariofile import scenario_names  # noqa: PLC0415
 
     p = sub.add_parser(
         "run", help="run a scenario (a bundled one by name, or a scenario file) headless",
@@ -55,14 +57,14 @@ def add_parser(sub) -> argparse.ArgumentParser:
                         "(scene.shelf_height=1.6, scene.parts.L.xy=0.2,0.8), the task "
                         "(task.agents.robot.cost=3), or the task or workcell itself (workcell=FILE); "
                         "docs/workcell_format.md")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar; log warnings only")
     add_plot_subject_argument(p)
     add_video_arguments(p, mode_names())
     return p
 
 
 def _scenario(args):
-    from ergosim.twin.scenariofile import load_scenario  # noqa: PLC0415
+    from ergosim.experiment.scenario import load_scenario  # noqa: PLC0415
 
     own = parse_assignments(args.assign)
     if args.seed < 0:
@@ -86,7 +88,7 @@ def _scenario(args):
         raise ConfigError("--rrd-subject/--rrd-mode choose what to record: give --rrd FILE, --spawn or "
                           "--connect as well", where="--rrd-subject" if args.rrd_subject is not None
                           else "--rrd-mode")
-    subjects = subject_range(args.subject_range, cfg.subjects)
+    subjects = subject_range(args.subject_range, cfg.population.subjects)
     if args.rrd_subject is not None and args.rrd_subject not in subjects:
         raise ConfigError(f"must be a subject index in {subjects.start}..{subjects.stop - 1}, got "
                           f"{args.rrd_subject}", where="--rrd-subject")
@@ -126,14 +128,14 @@ def _in_shard(subjects: range, n: int, **chosen) -> None:
 
 def _precheck(scenario) -> None:
     """Refuse a run certain to fail before any subject starts (reachability of every action)."""
-    from ergosim.twin.scenario_check import precheck  # noqa: PLC0415
+    from ergosim.experiment.scenario_check import precheck  # noqa: PLC0415
 
     precheck(scenario)
 
 
 def run(args) -> int:
-    from ergosim.twin.scenario_run import EXIT_ABANDONED, run_scenario  # noqa: PLC0415
-    from ergosim.twin.summary_text import summary_text  # noqa: PLC0415
+    from ergosim.experiment.scenario_run import EXIT_ABANDONED, run_scenario  # noqa: PLC0415
+    from ergosim.experiment.summary_text import summary_text  # noqa: PLC0415
     from ergosim.viz import open_recording  # noqa: PLC0415
 
     scenario, subjects = _scenario(args)
@@ -143,10 +145,10 @@ def run(args) -> int:
         raise ConfigError(f"{out} exists and is not a directory", where="--out")
     video = video_request(args, scenario)
     plot_subjects = parse_subjects(args.plot_subject)
-    if plot_subjects and max(plot_subjects) >= cfg.subjects:
-        raise ConfigError(f"must be subject indices in 0..{cfg.subjects - 1}, got {args.plot_subject}",
-                          where="--plot-subject")
-    _in_shard(subjects, cfg.subjects, plot_subjects=plot_subjects,
+    if plot_subjects and max(plot_subjects) >= cfg.population.subjects:
+        raise ConfigError(f"must be subject indices in 0..{cfg.population.subjects - 1}, got "
+                          f"{args.plot_subject}", where="--plot-subject")
+    _in_shard(subjects, cfg.population.subjects, plot_subjects=plot_subjects,
               video=None if video is None else video.subject)
     _precheck(scenario)
     if video is not None:
@@ -177,10 +179,10 @@ def run(args) -> int:
         print(f"recording: {Path(args.rrd).resolve()}  (open it with: rerun {args.rrd})")
     if result.video is not None:
         print(video_line(result.video, video))
-    print(f"wall time {result.wall:.1f} s", file=sys.stderr)
+    log.info("wall time %.1f s", result.wall)
     if result.status == "abandoned":
         n = result.summary.get("repetitions_abandoned", 0)
-        print(f"ergosim: {n} repetition(s) abandoned: the run is incomplete (exit status 3)", file=sys.stderr)
+        log.warning("ergosim: %d repetition(s) abandoned: the run is incomplete (exit status 3)", n)
         return EXIT_ABANDONED
     return 0
 

@@ -4,7 +4,7 @@ ergosim scenarios [--json]
 
 Each line gives the scenario's name, its protocol at a glance (subjects × repetitions, modes) and the
 description from its file. The bundled scenarios live in ``ergosim/data/scenarios``; a scenario registered
-from Python (:func:`ergosim.twin.scenariofile.register_scenario`) is listed as well. Only the files are
+from Python (:func:`ergosim.experiment.scenario.register_scenario`) is listed as well. Only the files are
 read: nothing is built or simulated.
 """
 
@@ -27,7 +27,7 @@ def add_parser(sub) -> argparse.ArgumentParser:
 
 
 def _entries() -> list[dict]:
-    from ergosim.twin.scenariofile import scenario_info, scenario_names  # noqa: PLC0415
+    from ergosim.experiment.scenario import scenario_info, scenario_names  # noqa: PLC0415
 
     return [scenario_info(name) for name in scenario_names()]
 

@@ -8,12 +8,14 @@ by SIGINT / SIGTERM (the finished units are kept; run the same command again to 
 from __future__ import annotations
 
 import argparse
-import sys
+import logging
 from pathlib import Path
 
 from ergosim.errors import ConfigError
 
 __all__ = ["add_parser", "run"]
+
+log = logging.getLogger(__name__)
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
@@ -33,7 +35,7 @@ def add_parser(sub) -> argparse.ArgumentParser:
                                             "cores); with --ray-address, the most units in flight")
     p.add_argument("--retry-failed", action="store_true", help="run failed units again")
     p.add_argument("--dry-run", action="store_true", help="check the file and print the plan; run nothing")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar; log warnings only")
     return p
 
 
@@ -90,9 +92,7 @@ def run(args) -> int:
         print(_plan_text(sweep, finished))
         return 0
     text = Path(args.sweep).read_text(encoding="utf-8")
-    if not args.quiet:
-        head = _plan_text(sweep, 0).split("\n", 1)[0]
-        print(head.replace(" (0 finished in the folder)", ""), file=sys.stderr)
+    log.info("%s", _plan_text(sweep, 0).split("\n", 1)[0].replace(" (0 finished in the folder)", ""))
     result = run_sweep(sweep, out, executor=args.executor, jobs=args.jobs, ray_address=args.ray_address,
                        progress=not args.quiet, retry_failed=args.retry_failed, sweep_text=text)
     print(_cells_text(out, sweep))
@@ -104,7 +104,7 @@ def run(args) -> int:
     print(f"results: {out.resolve()} (results.parquet, cells.parquet, allocations.parquet"
           + (", " + ", ".join(result.plots) if result.plots else "") + ")")
     if result.status == "incomplete":
-        print(f"ergosim: {result.failed} unit(s) failed and {result.abandoned} abandoned a repetition; see "
-              "the status and error columns of results.parquet (exit status 3)", file=sys.stderr)
+        log.warning("ergosim: %d unit(s) failed and %d abandoned a repetition; see the status and error "
+                    "columns of results.parquet (exit status 3)", result.failed, result.abandoned)
         return EXIT_INCOMPLETE
     return 0

@@ -57,14 +57,14 @@ def video_request(args: argparse.Namespace, scenario):
     if not parent.is_dir() or not os.access(parent, os.W_OK | os.X_OK):
         raise ConfigError(f"cannot write into {parent}: permission denied", where="--video")
     subject = 0 if args.video_subject is None else args.video_subject
-    if not 0 <= subject < cfg.subjects:
-        raise ConfigError(f"must be a subject index in 0..{cfg.subjects - 1}, got {subject}",
+    if not 0 <= subject < cfg.population.subjects:
+        raise ConfigError(f"must be a subject index in 0..{cfg.population.subjects - 1}, got {subject}",
                           where="--video-subject")
     mode = args.video_mode or cfg.modes[0]
     if mode not in cfg.modes:
         raise ConfigError(f"mode {mode!r} is not run; modes run: {', '.join(cfg.modes)}",
                           where="--video-mode")
-    reps = None if args.video_reps is None else parse_reps(args.video_reps, cfg.repetitions)
+    reps = None if args.video_reps is None else parse_reps(args.video_reps, cfg.pacing.repetitions)
     speed = 1.0 if args.video_speed is None else args.video_speed
     if not (math.isfinite(speed) and 0 < speed <= _MAX_SPEED):
         raise ConfigError(f"must be a number in (0, {_MAX_SPEED:g}], got {speed:g}", where="--video-speed")

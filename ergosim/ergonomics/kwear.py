@@ -96,17 +96,39 @@ def kwear_step(v, g, dt: float, params: KWearParams, resting=False,
 
 def kwear_trajectory(v0, g, dt, params: KWearParams, resting=False) -> np.ndarray:
     """KWear after each of n ticks: v0 (m,), g (n, m) scores, dt scalar or (n,) [s], resting bool or (n,)
-    or (n, m). Returns (n, m). Exact (eq. 4-5); non-finite G rows hold V, as in :func:`kwear_step`."""
+    or (n, m). Returns (n, m). Exact (eq. 4-5); non-finite G rows hold V, as in :func:`kwear_step`.
+
+    The same floating-point operations as n calls of :func:`kwear_step`, so the same bits: the exponentials
+    for all ticks at once, then the recursion V_k(V_{k-1}) on Python floats.
+    """
     g = np.atleast_2d(np.asarray(g, dtype=float))
     n, m = g.shape
     dts = np.broadcast_to(np.asarray(dt, dtype=float), (n,))
     rest = np.broadcast_to(np.asarray(resting, dtype=bool), (n,) if np.ndim(resting) <= 1 else (n, m))
-    v = np.array(np.broadcast_to(np.asarray(v0, dtype=float), (m,)))
+    v = [float(x) for x in np.broadcast_to(np.asarray(v0, dtype=float), (m,))]
+    if not np.all(dts >= 0):
+        raise ValueError(f"dt must be >= 0 s, got {float(dts[np.flatnonzero(~(dts >= 0))[0]])}")
+    k = np.array([float(d) / params.C for d in dts.tolist()])
+    x = np.abs(g)
+    x *= -k[:, None]
+    # per tick and joint: 0 wear (eq. 4), 1 hold (a dropout while acting), 2 recovery (eq. 5)
+    kind = np.where(np.broadcast_to(rest if rest.ndim == 2 else rest[:, None], (n, m)), 2,
+                    np.where(np.isfinite(x), 0, 1))
+    np.expm1(x, out=x)
+    decay = {d: math.exp(-params.r * d) for d in set(k.tolist())}
+    factors = [decay[d] for d in k.tolist()]
     out = np.empty((n, m))
-    for k in range(n):
-        r = rest[k]
-        v = kwear_step(v, g[k], float(dts[k]), params, resting=bool(r) if np.ndim(r) == 0 else r)
-        out[k] = v
+    for i in range(m):
+        vi, column = v[i], []
+        for xt, kt, ft in zip(x[:, i].tolist(), kind[:, i].tolist(), factors, strict=True):
+            if kt == 0:
+                vi = vi - (1.0 - vi) * xt
+                if vi > V_CEIL:
+                    vi = V_CEIL
+            elif kt == 2:
+                vi = vi * ft
+            column.append(vi)
+        out[:, i] = column
     return out
 
 

@@ -38,6 +38,8 @@ class RiskIndex(ABC):
 
     joints: tuple[str, ...] = KWEAR_JOINTS
     channels: tuple[str, ...] = KWEAR_JOINTS
+    scale: float = 1.0
+    """A predicted value × ``scale`` is the index's own unit, for display (the static RULA index: G_max)."""
 
     def __init__(self) -> None:
         self._v = np.zeros(_M)
@@ -182,6 +184,7 @@ class StaticRulaIndex(RiskIndex):
             raise ConfigError(f"RULA scores must be finite and >= 0, got {bad}", where="StaticRulaIndex")
         self.g_actions = dict(g_actions)
         self.g_max = float(g_max)
+        self.scale = self.g_max  # predictions are G / G_max
 
     @classmethod
     def from_worker(cls, worker, g_max: float = 9.0) -> StaticRulaIndex:

@@ -1,7 +1,7 @@
 """Run the paper's two experiments in the twin for the fidelity report, through the ordinary scenario runs.
 
-Each run is a normal ``ergosim run`` (:func:`~ergosim.twin.scenario_run.run_scenario`) into its own folder
-under the report's output folder, so every figure of the report can be traced to a summary.json and its
+Each run is a normal ``ergosim run`` (:func:`~ergosim.experiment.scenario_run.run_scenario`) into its own
+folder under the report's output folder, so every figure of the report can be traced to a summary.json and its
 CSVs. A :class:`Plan` says what is run: the full form of issue 13 (§7.1 over seeds 0-4, §7.2 with 12
 subjects x 10 repetitions over seeds 0-2, and the robot-only assembly), or the ``quick`` form CI runs.
 """
@@ -14,9 +14,9 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 
 from ergosim.atomic import write_json
-from ergosim.twin.robot_timing import robot_only_runs, timing_summary
-from ergosim.twin.scenario_run import run_scenario
-from ergosim.twin.scenariofile import load_scenario
+from ergosim.experiment.robot_timing import robot_only_runs, timing_summary
+from ergosim.experiment.scenario import load_scenario
+from ergosim.experiment.scenario_run import run_scenario
 
 __all__ = ["Plan", "FULL", "QUICK", "Runs", "run_experiments"]
 
@@ -42,7 +42,7 @@ QUICK = Plan("quick", kv_seeds=(0, 1), ms_seeds=(0,), ms_subjects=6, ms_reps=10,
 @dataclasses.dataclass(frozen=True)
 class Runs:
     """The summaries (summary.json documents) of the report's runs, the robot-only timing
-    (:func:`~ergosim.twin.robot_timing.timing_summary`) and the files they are in."""
+    (:func:`~ergosim.experiment.robot_timing.timing_summary`) and the files they are in."""
 
     kwear_validation: dict[int, dict]
     multi_subject: dict[int, dict]

@@ -17,11 +17,11 @@ import numpy as np
 
 from ergosim.ergonomics.kwear import alpha_of
 from ergosim.ergonomics.rula_action import G_RULES, grand_scores_by_rule, most_loaded_joint
+from ergosim.experiment.runner import scenario_subject, subject_cell
+from ergosim.experiment.scenario import load_scenario
 from ergosim.fidelity import paper
 from ergosim.posture import KWEAR_JOINTS
 from ergosim.twin.calibration import SceneCalibration
-from ergosim.twin.runner import scenario_subject, subject_cell
-from ergosim.twin.scenariofile import load_scenario
 
 __all__ = ["RuleFit", "Measured", "measure", "g_by_rule", "rule_fits"]
 
@@ -43,7 +43,7 @@ def measure(scenario: str, seeds: Sequence[int], subjects: int | None = None, pa
     what-if of the worker's style."""
     sc = load_scenario(scenario, dict(overrides or {}))
     cfg = sc.protocol
-    n = cfg.subjects if subjects is None else subjects
+    n = cfg.population.subjects if subjects is None else subjects
     actions = sc.task().actions
     per_rule: dict[str, dict[str, list[float]]] = {r: {} for r in G_RULES}
     loaded: dict[str, list[str]] = {a: [] for a in actions}
@@ -54,9 +54,9 @@ def measure(scenario: str, seeds: Sequence[int], subjects: int | None = None, pa
             scaled = {k: getattr(subject, k) * f for k, f in (subject_fields or {}).items()}
             subject = dataclasses.replace(subject, handedness=cell.config.worker.hand, **scaled)
             rng = np.random.default_rng([seed, index, 23])
-            cal = SceneCalibration.for_subject(cell, subject, rng, mocap_rate=cfg.mocap_rate,
-                                               ergonomics_rate=cfg.ergonomics_rate, actions=actions,
-                                               noise=cfg.noise_scale)
+            cal = SceneCalibration.for_subject(cell, subject, rng, mocap_rate=cfg.sensing.mocap_rate,
+                                               ergonomics_rate=cfg.sensing.ergonomics_rate, actions=actions,
+                                               noise=cfg.sensing.noise_scale)
             cal.execute(actions[0], passes - 1)
             params = subject.kwear_params()
             for action in actions:

@@ -20,9 +20,9 @@ from collections.abc import Sequence
 import numpy as np
 
 from ergosim.ergonomics.kwear import KWearParams, alpha_of
+from ergosim.experiment.runner import scenario_subject, subject_cell
+from ergosim.experiment.scenario import load_scenario
 from ergosim.twin.calibration import put_part
-from ergosim.twin.runner import scenario_subject, subject_cell
-from ergosim.twin.scenariofile import load_scenario
 from ergosim.worker import Worker, score_frames
 
 __all__ = ["Wear", "measure"]

@@ -31,9 +31,9 @@ import tempfile
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
+from ergosim.experiment.scenario import load_scenario
+from ergosim.experiment.scenario_run import run_scenario
 from ergosim.fidelity.checks import table1_of
-from ergosim.twin.scenario_run import run_scenario
-from ergosim.twin.scenariofile import load_scenario
 
 __all__ = ["PaceRow", "first_robot_repetition", "pace_scan", "calibrated_pace", "h_only_band"]
 
@@ -82,7 +82,7 @@ def h_only_band(seeds: Sequence[int], scenario: str = "multi-subject",
     """(lowest pace, highest pace, calibrated pace) that §7.2's H-only fact allows: one H-only repetition of
     every subject of ``seeds`` at MTM-1 standard pace; the slowest, T_1, over the takt is the lowest pace."""
     slowest = 0.0
-    takt = load_scenario(scenario).protocol.takt
+    takt = load_scenario(scenario).protocol.pacing.takt
     for seed in seeds:
         sc = load_scenario(scenario, {"pace": "1.0", "modes": "h-only", "repetitions": "1"})
         with tempfile.TemporaryDirectory() as tmp:

@@ -21,10 +21,10 @@ import statistics
 from collections.abc import Callable
 from pathlib import Path
 
+from ergosim.experiment.scenario import load_scenario
 from ergosim.fidelity.checks import Bounds, fidelity_rows, robot_only_time
 from ergosim.fidelity.experiments import Plan, Runs, run_experiments
 from ergosim.scenes import parse_cell
-from ergosim.twin.scenariofile import load_scenario
 
 __all__ = ["PARAMETERS", "SensitivityRow", "scaled_overrides", "run_sensitivity"]
 
@@ -84,9 +84,9 @@ def scaled_overrides(parameter: str, factor: float) -> dict[str, dict[str, str]]
         scenario = load_scenario(name)
         cfg = scenario.protocol
         if parameter == "pace":
-            over["pace"] = repr(cfg.pace * factor)
-        elif parameter == "transit_speed" and hasattr(cfg, "transit_speed"):
-            over["transit_speed"] = repr(cfg.transit_speed * factor)
+            over["pace"] = repr(cfg.population.pace * factor)
+        elif parameter == "transit_speed":
+            over["transit_speed"] = repr(cfg.robot.transit_speed * factor)
         elif parameter == "piece_distance":
             over.update(_moved_points(name, factor))
     if parameter == "shelf_height":

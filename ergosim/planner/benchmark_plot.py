@@ -7,15 +7,18 @@ import os
 from matplotlib.figure import Figure
 
 from ergosim.atomic import atomic_open
-from ergosim.planner.benchmark import BenchRow
+from ergosim.planner.benchmark import OVER_BUDGET, OVER_CAP, BenchRow
 
 __all__ = ["plot_benchmark"]
 
 _STYLE = {"sequential": "tab:blue", "scarce": "tab:orange"}
+STOPPED = (OVER_CAP, OVER_BUDGET)
 
 
 def plot_benchmark(rows: list[BenchRow], path: str | os.PathLike[str]) -> None:
     """Write a PNG: replan time [ms, log scale] against pieces (2 agents) and against agents (10 pieces).
+
+    The first size where the paper planner stopped (time cap or memory budget) is named in its legend.
 
     Uses a bare :class:`matplotlib.figure.Figure` (Agg canvas), so no pyplot backend is touched.
     """
@@ -29,10 +32,14 @@ def plot_benchmark(rows: list[BenchRow], path: str | os.PathLike[str]) -> None:
                 for r in rows
                 if r.shape == shape and r.agents == 2 and getattr(r, key)
             )
+            stopped = [
+                f"{r.pieces}: {r.paper_note}"
+                for r in rows
+                if planner == "paper" and r.shape == shape and r.agents == 2 and r.paper_note in STOPPED
+            ]
             if pts:
-                by_pieces.plot(
-                    *zip(*pts, strict=True), line, marker=marker, color=colour, label=f"{planner}, {shape}"
-                )
+                label = f"{planner}, {shape}" + (f" ({stopped[0]})" if stopped else "")
+                by_pieces.plot(*zip(*pts, strict=True), line, marker=marker, color=colour, label=label)
             pts = sorted(
                 (r.agents, getattr(r, key))
                 for r in rows

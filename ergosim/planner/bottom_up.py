@@ -18,15 +18,11 @@ minimum, the first in (agent index, operation index) order wins, i.e. the lexico
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 import numpy as np
 
 from ergosim.errors import InfeasiblePlanError
 from ergosim.planner import diagnose
-
-if TYPE_CHECKING:
-    from ergosim.planner.graph import AndOrGraph
+from ergosim.planner.compiled import CompiledGraph
 
 __all__ = ["node_costs", "solve", "tolerance", "REL_TOL"]
 
@@ -38,7 +34,7 @@ def tolerance(value: float) -> float:
     return REL_TOL * max(1.0, abs(value))
 
 
-def node_costs(graph: AndOrGraph, config: np.ndarray, cost: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def node_costs(graph: CompiledGraph, config: np.ndarray, cost: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """V for every node, and the hyper-arc totals c_h + Σ V(children).
 
     Args:
@@ -48,7 +44,7 @@ def node_costs(graph: AndOrGraph, config: np.ndarray, cost: np.ndarray) -> tuple
     Returns:
         (n_nodes + 1,) V (the last entry is the zero-cost padding node) and (n_hyperarcs,) totals.
     """
-    lay = graph._layout
+    lay = graph.layout
     value = np.full(graph.n_nodes + 1, np.inf)
     value[-1] = 0.0
     value[config] = 0.0
@@ -63,18 +59,18 @@ def node_costs(graph: AndOrGraph, config: np.ndarray, cost: np.ndarray) -> tuple
     return value, totals
 
 
-def solve(graph: AndOrGraph, config: np.ndarray, cost: np.ndarray) -> list[int]:
+def solve(graph: CompiledGraph, config: np.ndarray, cost: np.ndarray) -> list[int]:
     """Hyper-arc indices of an optimal plan tree from Θ = ``config`` to the root.
 
     Raises:
         InfeasiblePlanError: when the root cannot be built from Θ with the hyper-arcs left.
     """
     value, totals = node_costs(graph, config, cost)
-    root = graph._root
+    root = graph.root
     if not np.isfinite(value[root]):
         reason, op_name, part = diagnose.explain(graph, config, cost, value)
         raise InfeasiblePlanError(f"no feasible plan: {reason}", where=graph.where(op_name, part))
-    lay = graph._layout
+    lay = graph.layout
     in_config = set(config.tolist())
     chosen = []
     stack = [root]
@@ -86,5 +82,5 @@ def solve(graph: AndOrGraph, config: np.ndarray, cost: np.ndarray) -> list[int]:
         best = value[node]
         h = lo + int(np.argmax(totals[lo : lay.seg_end[node]] <= best + tolerance(best)))
         chosen.append(h)
-        stack.extend(graph._op_children[lay.op[h]])
+        stack.extend(graph.op_children[lay.op[h]])
     return chosen

@@ -8,23 +8,20 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Mapping
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ergosim.errors import ConfigError
 from ergosim.planner.agents import COST_MAX
+from ergosim.planner.compiled import CompiledGraph
 from ergosim.planner.validation import format_parts
-
-if TYPE_CHECKING:
-    from ergosim.planner.graph import AndOrGraph
 
 __all__ = ["configuration", "hyperarc_costs"]
 
 _EMPTY = np.zeros(0, dtype=np.int64)
 
 
-def configuration(graph: AndOrGraph, done: Iterable[str]) -> np.ndarray:
+def configuration(graph: CompiledGraph, done: Iterable[str]) -> np.ndarray:
     """Node indices (ascending) of the sub-assemblies of Θ after the operations ``done``.
 
     Θ starts as the parts (Θ_i); each done operation replaces its children by its father. The
@@ -37,16 +34,16 @@ def configuration(graph: AndOrGraph, done: Iterable[str]) -> np.ndarray:
         )
     indices = []
     for name in done:
-        index = graph._op_index.get(name)
+        index = graph.op_index.get(name)
         if index is None:
             raise ConfigError(f"unknown operation {name!r} in task {graph.name!r}", where="done")
         if index in indices:
             raise ConfigError(f"operation {name!r} is listed twice", where="done")
         indices.append(index)
-    current = set(graph._leaf)
-    masks = graph._node_masks
-    for index in sorted(indices, key=lambda i: (masks[graph._op_father[i]].bit_count(), i)):
-        for child in graph._op_children[index]:
+    current = set(graph.leaves)
+    masks = graph.node_masks
+    for index in sorted(indices, key=lambda i: (masks[graph.op_father[i]].bit_count(), i)):
+        for child in graph.op_children[index]:
             if child not in current:
                 op = graph.operations[index]
                 raise ConfigError(
@@ -56,21 +53,21 @@ def configuration(graph: AndOrGraph, done: Iterable[str]) -> np.ndarray:
                     where="done",
                 )
             current.remove(child)
-        current.add(graph._op_father[index])
+        current.add(graph.op_father[index])
     return np.array(sorted(current), dtype=np.int64)
 
 
-def _key_indices(graph: AndOrGraph, key: tuple[str, str], where: str) -> np.ndarray:
+def _key_indices(graph: CompiledGraph, key: tuple[str, str], where: str) -> np.ndarray:
     if not (isinstance(key, tuple) and len(key) == 2):
         raise ConfigError(f"keys are (action, agent) pairs, got {key!r}", where=where)
-    found = graph._key_hyperarcs.get(key)
+    found = graph.key_hyperarcs.get(key)
     if found is not None:
         return found
     action, agent = key
     if action not in graph.actions:
         raise ConfigError(f"unknown action {action!r}; actions are {list(graph.actions)}", where=where)
-    if agent not in graph._agent_index:
-        raise ConfigError(f"unknown agent {agent!r}; agents are {list(graph._agent_index)}", where=where)
+    if agent not in graph.agent_index:
+        raise ConfigError(f"unknown agent {agent!r}; agents are {list(graph.agent_index)}", where=where)
     return _EMPTY  # a known agent that may not do this action: nothing to override
 
 
@@ -85,14 +82,14 @@ def _number(key: tuple[str, str], value: object, where: str) -> float:
 
 
 def hyperarc_costs(
-    graph: AndOrGraph,
+    graph: CompiledGraph,
     costs: Mapping[tuple[str, str], float] | None,
     pruned: Iterable[tuple[str, str]],
     added: Mapping[tuple[str, str], float] | None = None,
 ) -> np.ndarray:
     """(n_hyperarcs,) costs for this call: fixed costs, overridden by ``costs``, plus ``added`` (e.g. a time
     term), +inf where ``pruned``."""
-    cost = graph._layout.cost.copy()
+    cost = graph.layout.cost.copy()
     if costs:
         for key, value in costs.items():
             cost[_key_indices(graph, key, "costs")] = _number(key, value, "costs")

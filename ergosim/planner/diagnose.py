@@ -2,20 +2,16 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 import numpy as np
 
+from ergosim.planner.compiled import CompiledGraph
 from ergosim.planner.validation import format_parts
-
-if TYPE_CHECKING:
-    from ergosim.planner.graph import AndOrGraph
 
 __all__ = ["explain"]
 
 
 def explain(
-    graph: AndOrGraph, config: np.ndarray, cost: np.ndarray, value: np.ndarray
+    graph: CompiledGraph, config: np.ndarray, cost: np.ndarray, value: np.ndarray
 ) -> tuple[str, str | None, str | None]:
     """A one-line reason, and the operation or part it concerns (for the message's location).
 
@@ -24,10 +20,10 @@ def explain(
         cost: (n_hyperarcs,) costs of this call (+inf = pruned or no agent).
         value: (n_nodes + 1,) node costs from :func:`ergosim.planner.bottom_up.node_costs`.
     """
-    lay = graph._layout
-    masks = graph._node_masks
+    lay = graph.layout
+    masks = graph.node_masks
     elements = [masks[n] for n in config.tolist()]
-    node = graph._root
+    node = graph.root
     while True:
         mask = masks[node]
         holders = [e for e in elements if e & mask and e != e & mask]
@@ -39,9 +35,9 @@ def explain(
                 None,
                 None,
             )
-        ops = graph._node_ops[node]
+        ops = graph.node_ops[node]
         if not ops:
-            if node == graph._root:
+            if node == graph.root:
                 return f"no operation joins the full assembly {format_parts(graph.parts)}", None, None
             return f"no operation forms sub-assembly {format_parts(graph.node_parts(node))}", None, None
         usable = []
@@ -63,12 +59,12 @@ def explain(
                     graph.node_parts(node)
                 )
             return why, op.name, None
-        blocked = [c for c in graph._op_children[usable[0]] if not np.isfinite(value[c])]
+        blocked = [c for c in graph.op_children[usable[0]] if not np.isfinite(value[c])]
         if not blocked:  # every child can be made and the hyper-arc is usable: the sum overflowed to inf
             return (f"the cost of forming {format_parts(graph.node_parts(node))} overflows to inf; "
                     "use smaller costs", graph.operations[usable[0]].name, None)
         node = blocked[0]
 
 
-def _parts(graph: AndOrGraph, mask: int) -> tuple[str, ...]:
+def _parts(graph: CompiledGraph, mask: int) -> tuple[str, ...]:
     return tuple(p for i, p in enumerate(graph.parts) if mask >> i & 1)

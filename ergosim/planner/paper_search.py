@@ -3,7 +3,7 @@
 A SearchState holds a configuration Θ (a set of disjoint sub-assemblies covering every part), a
 father pointer and a score c. The search starts from Θ_f = {full assembly} and ends at the goal, the
 current configuration (Θ_i at the start of the task; after each action, Algorithm 2 calls it again with
-the configuration reached, see :func:`ergosim.planner.plan.replan_until_done`). Expanding a state
+the configuration reached, see :func:`ergosim.planner.replan.replan_until_done`). Expanding a state
 replaces one of its sub-assemblies θ_j by the children of one hyper-arc with father θ_j; the successor's
 score is the father's score plus the hyper-arc cost. The state of minimum score is expanded next
 (OPEN ordered by (score, insertion order)), improved states in CLOSE are re-opened, and the optimal path
@@ -18,18 +18,15 @@ from __future__ import annotations
 
 import heapq
 import time
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ergosim.errors import ConfigError, InfeasiblePlanError
 from ergosim.planner import bottom_up, diagnose
+from ergosim.planner.compiled import CompiledGraph
 from ergosim.planner.limits import MAX_PAPER_STATES
 
-if TYPE_CHECKING:
-    from ergosim.planner.graph import AndOrGraph
-
-__all__ = ["solve", "SearchBudgetExceeded"]
+__all__ = ["solve", "SearchBudgetExceeded", "SearchMemoryExceeded"]
 
 _CHECK_EVERY = 1024
 
@@ -38,22 +35,17 @@ class SearchBudgetExceeded(TimeoutError):
     """The search ran past its ``time_budget``; raised so a benchmark can record it as skipped."""
 
 
-def _edges(graph: AndOrGraph) -> list[list[tuple[int, int]]]:
-    """Per node: (hyper-arc index, bit set of its children's nodes), built once per graph."""
-    if graph._paper_cache is None:
-        lay = graph._layout
-        child_bits = [sum(1 << c for c in set(children)) for children in graph._op_children]
-        ops = lay.op.tolist()
-        graph._paper_cache = [
-            [(h, child_bits[ops[h]]) for h in range(int(lay.seg_start[n]), int(lay.seg_end[n]))]
-            for n in range(graph.n_nodes)
-        ]
-    return graph._paper_cache  # type: ignore[return-value]
+class SearchMemoryExceeded(ConfigError):
+    """The search created more configurations than its ``max_states`` memory budget.
+
+    A :class:`~ergosim.errors.ConfigError`, so the CLI prints it as one line; a benchmark catches it by
+    this type and records the row as over budget.
+    """
 
 
-def _successor_table(graph: AndOrGraph, config: np.ndarray, cost: np.ndarray) -> list[list[tuple]]:
+def _successor_table(graph: CompiledGraph, config: np.ndarray, cost: np.ndarray) -> list[list[tuple]]:
     """Per node: (cost, hyper-arc, children bits) of the usable hyper-arcs of this call."""
-    masks = graph._node_masks
+    masks = graph.node_masks
     element_of_part = [0] * len(graph.parts)
     for n in config.tolist():
         m = masks[n]
@@ -72,12 +64,12 @@ def _successor_table(graph: AndOrGraph, config: np.ndarray, cost: np.ndarray) ->
     c = cost.tolist()
     return [
         [(c[h], h, bits) for h, bits in edges if c[h] != float("inf") and bits & consistent == bits]
-        for edges in _edges(graph)
+        for edges in graph.node_edges
     ]
 
 
 def solve(
-    graph: AndOrGraph,
+    graph: CompiledGraph,
     config: np.ndarray,
     cost: np.ndarray,
     *,
@@ -92,12 +84,12 @@ def solve(
     Raises:
         InfeasiblePlanError: OPEN ran empty before the goal was reached.
         SearchBudgetExceeded: the search took longer than ``time_budget`` seconds.
-        ConfigError: the search created more than ``max_states`` configurations.
+        SearchMemoryExceeded: the search created more than ``max_states`` configurations (a ConfigError).
     """
     limit = MAX_PAPER_STATES if max_states is None else max_states
     deadline = None if time_budget is None else time.perf_counter() + time_budget
     succ = _successor_table(graph, config, cost)
-    start = 1 << graph._root
+    start = 1 << graph.root
     goal = 0
     for n in config.tolist():
         goal |= 1 << n
@@ -116,7 +108,7 @@ def solve(
         if deadline is not None and popped % _CHECK_EVERY == 0 and time.perf_counter() > deadline:
             raise SearchBudgetExceeded(f"paper search exceeded {time_budget} s after {popped} expansions")
         if pushed > limit:
-            raise ConfigError(
+            raise SearchMemoryExceeded(
                 f"the paper planner (Algorithm 1) created {pushed} configurations, more than its memory "
                 f"budget of {limit} (--max-states); plan this task with --planner fast",
                 where=graph.source,
@@ -153,11 +145,21 @@ def solve(
         del open_[state]
         close[state] = score
     if curr is None:
-        value, _ = bottom_up.node_costs(graph, config, cost)
-        reason, op_name, part = diagnose.explain(graph, config, cost, value)
-        raise InfeasiblePlanError(f"no feasible plan: {reason}", where=graph.where(op_name, part))
+        _infeasible(graph, config, cost)
+    return _path(father, start, curr)
+
+
+def _infeasible(graph: CompiledGraph, config: np.ndarray, cost: np.ndarray) -> None:
+    """OPEN ran empty: raise InfeasiblePlanError with the reason the bottom-up pass finds."""
+    value, _ = bottom_up.node_costs(graph, config, cost)
+    reason, op_name, part = diagnose.explain(graph, config, cost, value)
+    raise InfeasiblePlanError(f"no feasible plan: {reason}", where=graph.where(op_name, part))
+
+
+def _path(father: dict[int, tuple[int, int]], start: int, goal: int) -> list[int]:
+    """The hyper-arcs from ``goal`` back to ``start`` along the father pointers."""
     path = []
-    while curr != start:
-        curr, h = father[curr]
+    while goal != start:
+        goal, h = father[goal]
         path.append(h)
     return path

@@ -1,4 +1,4 @@
-"""Plans: the planners' result, its execution order, and Algorithm 2 (re-plan after every action).
+"""Plans: the planners' result and its execution order.
 
 A plan is a tree of hyper-arcs from the current configuration Θ up to the full assembly. Its cost is
 the sum of its hyper-arc costs. Its steps are listed in *execution order*: repeatedly, among the steps
@@ -11,16 +11,14 @@ from __future__ import annotations
 
 import heapq
 import math
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 
-if TYPE_CHECKING:
-    from ergosim.planner.graph import AndOrGraph
+from ergosim.planner.compiled import CompiledGraph
 
-__all__ = ["PlanStep", "Plan", "assemble_plan", "replan_until_done"]
+__all__ = ["PlanStep", "Plan", "assemble_plan"]
 
 
 @dataclass(frozen=True)
@@ -57,17 +55,18 @@ class Plan:
         }
 
 
-def assemble_plan(graph: AndOrGraph, hyperarcs: Iterable[int], config: np.ndarray, cost: np.ndarray) -> Plan:
+def assemble_plan(graph: CompiledGraph, hyperarcs: Iterable[int], config: np.ndarray,
+                  cost: np.ndarray) -> Plan:
     """Order a plan tree (hyper-arc indices) for execution and wrap it as a :class:`Plan`."""
-    lay = graph._layout
+    lay = graph.layout
     hyperarcs = list(hyperarcs)
     ops = [int(lay.op[h]) for h in hyperarcs]
-    made_by = {graph._op_father[op]: k for k, op in enumerate(ops)}
+    made_by = {graph.op_father[op]: k for k, op in enumerate(ops)}
     existing = set(config.tolist())
     waiting = [0] * len(ops)
     parent = [-1] * len(ops)
     for k, op in enumerate(ops):
-        for child in graph._op_children[op]:
+        for child in graph.op_children[op]:
             if child not in existing:
                 waiting[k] += 1
                 parent[made_by[child]] = k
@@ -87,31 +86,3 @@ def assemble_plan(graph: AndOrGraph, hyperarcs: Iterable[int], config: np.ndarra
             if waiting[up] == 0:
                 heapq.heappush(ready, (ops[up], up))
     return Plan(tuple(steps), math.fsum(s.cost for s in steps))
-
-
-CostUpdate = Callable[
-    [tuple[str, ...]], tuple[Mapping[tuple[str, str], float] | None, Iterable[tuple[str, str]]]
-]
-
-
-def replan_until_done(
-    graph: AndOrGraph,
-    update: CostUpdate | None = None,
-    planner: str = "paper",
-    done: Iterable[str] = (),
-) -> tuple[PlanStep, ...]:
-    """Algorithm 2 (RecursiveAO*): plan, dispatch the next action, update the goals, until complete.
-
-    ``update(done)`` returns ``(costs, pruned)`` for the next search, given the operations done so far
-    (the twin's cost update, eq. 2). Returns the executed steps in order; their agents and costs are
-    those of the plan current when each step was dispatched.
-    """
-    done_list = list(done)
-    executed = []
-    while True:
-        costs, pruned = update(tuple(done_list)) if update is not None else (None, ())
-        step = graph.plan(done=done_list, costs=costs, pruned=pruned, planner=planner).next
-        if step is None:
-            return tuple(executed)
-        executed.append(step)
-        done_list.append(step.operation)

@@ -11,11 +11,11 @@ the file itself.
 from __future__ import annotations
 
 import copy
-import math
 from collections.abc import Mapping
 from typing import Any
 
 from ergosim.errors import TaskFileError
+from ergosim.overrides import finite_float
 
 __all__ = ["apply_task_overrides", "task_keys"]
 
@@ -57,13 +57,7 @@ def _value(raw: Any, key: str, said: str, where: str) -> Any:
     if key == "joins":
         return [[p.strip() for p in child.split("+") if p.strip()] for child in raw.split(",")]
     if key == "cost":
-        try:
-            v = float(raw)
-        except ValueError:
-            raise TaskFileError(f"{said}: expected a number", where=where) from None
-        if not math.isfinite(v):
-            raise TaskFileError(f"{said}: expected a finite number", where=where)
-        return v
+        return finite_float(raw, said.partition("=")[0], where=where, error=TaskFileError)
     return raw
 
 

@@ -37,7 +37,8 @@ import numpy as np
 from ergosim.errors import ConfigError, InfeasiblePlanError
 from ergosim.planner import bottom_up, diagnose
 from ergosim.planner.call_inputs import configuration, hyperarc_costs
-from ergosim.planner.outside import outside_costs, team_layout
+from ergosim.planner.compiled import CompiledGraph
+from ergosim.planner.outside import outside_costs
 
 __all__ = ["TeamStep", "TeamAssignment", "team_assign"]
 
@@ -76,19 +77,7 @@ class _State:
     held: np.ndarray
 
 
-def _node_with(graph, nodes: np.ndarray, part: str) -> int:
-    """The node of ``nodes`` that contains ``part``."""
-    try:
-        bit = 1 << graph._part_index[part]
-    except KeyError:
-        raise ConfigError(f"unknown part {part!r} in task {graph.name!r}", where="team_assign") from None
-    for n in nodes.tolist():
-        if graph._node_masks[n] & bit:
-            return n
-    raise AssertionError(part)  # a configuration partitions the parts
-
-
-def _costs(graph, done: list[str], reserved: Mapping[str, tuple[str, str]], costs, pruned,
+def _costs(graph: CompiledGraph, done: list[str], reserved: Mapping[str, tuple[str, str]], costs, pruned,
            added) -> np.ndarray:
     """The call's hyper-arc costs, with every reserved action given to its agent at no further cost on the
     operations it can join: those with the moving part's sub-assembly, as it is now, for a child. (An
@@ -96,56 +85,57 @@ def _costs(graph, done: list[str], reserved: Mapping[str, tuple[str, str]], cost
     cost = hyperarc_costs(graph, costs, pruned, added)
     if not reserved:
         return cost
-    nodes = configuration(graph, done)
-    lay = graph._layout
+    nodes = configuration(graph, done).tolist()
+    lay = graph.layout
     for action, (agent, part) in reserved.items():
-        joins = _node_with(graph, nodes, part)
+        joins = graph.node_with(nodes, part, where="team_assign")
         for other in graph.agents:
-            index = graph._key_hyperarcs.get((action, other.name))
+            index = graph.key_hyperarcs.get((action, other.name))
             if index is None:
                 continue
-            index = np.asarray(index)
-            index = index[[joins in graph._op_children[int(op)] for op in lay.op[index]]]
+            index = index[[joins in graph.op_children[int(op)] for op in lay.op[index]]]
             cost[index] = 0.0 if other.name == agent else np.inf
     return cost
 
 
-def _evaluate(graph, done: list[str], running: list[str], reserved: Mapping[str, tuple[str, str]],
-              cost: np.ndarray) -> _State:
+def _evaluate(graph: CompiledGraph, done: list[str], running: list[str],
+              reserved: Mapping[str, tuple[str, str]], cost: np.ndarray) -> _State:
     """Node costs from the configuration with ``running`` and ``reserved`` committed; raises
     InfeasiblePlanError when the assembly can no longer be finished."""
     done_nodes = configuration(graph, done)
     commit_nodes = configuration(graph, done + running) if running else done_nodes
     value, totals = bottom_up.node_costs(graph, commit_nodes, cost)
-    if not np.isfinite(value[graph._root]):
+    if not np.isfinite(value[graph.root]):
         reason, op_name, part = diagnose.explain(graph, commit_nodes, cost, value)
         raise InfeasiblePlanError(f"no feasible plan: {reason}", where=graph.where(op_name, part))
     held = np.zeros(graph.n_nodes + 1, dtype=bool)
-    tl = team_layout(graph)
+    tl = graph.op_table
     for name in running:
-        held[tl.op_children[graph._op_index[name]]] = True
+        held[tl.op_children[graph.op_index[name]]] = True
+    done_list = done_nodes.tolist()
     for _, (_, part) in reserved.items():
-        held[_node_with(graph, done_nodes, part)] = True
+        held[graph.node_with(done_list, part, where="team_assign")] = True
     held[-1] = False
     return _State(done_nodes, commit_nodes, cost, value, totals, held)
 
 
-def _candidates(graph, state: _State, free: Sequence[str], early: Mapping[tuple[str, str], str],
+def _candidates(graph: CompiledGraph, state: _State, free: Sequence[str],
+                early: Mapping[tuple[str, str], str],
                 reserved: Mapping[str, tuple[str, str]]) -> tuple[np.ndarray, np.ndarray, list]:
     """The ready hyper-arcs of the ``free`` agents: (hyper-arcs, their operations, per hyper-arc the
     moving part of an early hyper-arc or None)."""
-    tl, lay = team_layout(graph), graph._layout
+    tl, lay = graph.op_table, graph.layout
     free_ids = np.zeros(len(graph.agents), dtype=bool)
-    free_ids[[graph._agent_index[a] for a in free]] = True
+    free_ids[[graph.agent_index[a] for a in free]] = True
     ok = np.zeros(graph.n_nodes + 1, dtype=bool)
     ok[state.done_nodes] = True
     ok &= ~state.held
     ok[-1] = True
-    ready = np.flatnonzero(ok[tl.op_children].all(axis=1))
+    ready = graph.ready(ok)
     excluded = np.zeros(len(lay.op), dtype=bool)  # reserved actions
     for action in reserved:
         for other in graph.agents:
-            index = graph._key_hyperarcs.get((action, other.name))
+            index = graph.key_hyperarcs.get((action, other.name))
             if index is not None:
                 excluded[index] = True
     keys = [k for k in early if k[1] in free]
@@ -155,12 +145,12 @@ def _candidates(graph, state: _State, free: Sequence[str], early: Mapping[tuple[
     ops = np.repeat(ready, counts)
     keep = free_ids[lay.agent[hyperarcs]] & np.isfinite(state.cost[hyperarcs]) & ~excluded[hyperarcs]
     for key in keys:  # an early key's hyper-arcs start early (below) where a child holds the moving part
-        index = graph._key_hyperarcs.get(key)
+        index = graph.key_hyperarcs.get(key)
         if index is None:
             continue
-        bit = 1 << graph._part_index[early[key]]
+        bit = graph.part_bit(early[key])
         for i in np.flatnonzero(np.isin(hyperarcs, index)).tolist():
-            if any(graph._node_masks[c] & bit for c in graph._op_children[int(ops[i])]):
+            if any(graph.node_masks[c] & bit for c in graph.op_children[int(ops[i])]):
                 keep[i] = False
     hyperarcs, ops = hyperarcs[keep], ops[keep]
     parts: list = [None] * len(hyperarcs)
@@ -174,14 +164,14 @@ def _candidates(graph, state: _State, free: Sequence[str], early: Mapping[tuple[
             action, part = key[0], early[key]
             if action in reserved or action not in tl.action_ops:
                 continue
-            bit = 1 << graph._part_index[part]
-            mine = set(graph._key_hyperarcs.get(key, np.zeros(0, np.int64)).tolist())
+            bit = graph.part_bit(part)
+            mine = set(graph.key_hyperarcs.get(key, np.zeros(0, np.int64)).tolist())
             for op in tl.action_ops[action].tolist():
-                children = graph._op_children[op]
-                moving = [c for c in children if graph._node_masks[c] & bit]
+                children = graph.op_children[op]
+                moving = [c for c in children if graph.node_masks[c] & bit]
                 if not moving or not ok[moving[0]] or not commit_ok[tl.op_children[op]].all():
                     continue
-                for h in tl.op_perm[tl.op_start[op]:tl.op_start[op + 1]].tolist():
+                for h in tl.hyperarcs(op).tolist():
                     if h in mine and np.isfinite(state.cost[h]):
                         extra_h.append(h)
                         extra_op.append(op)
@@ -191,17 +181,17 @@ def _candidates(graph, state: _State, free: Sequence[str], early: Mapping[tuple[
     return hyperarcs, ops, parts
 
 
-def _pick(graph, state: _State, free: Sequence[str], early, reserved, margin: float | None,
+def _pick(graph: CompiledGraph, state: _State, free: Sequence[str], early, reserved, margin: float | None,
           outside: np.ndarray) -> list[TeamStep]:
     hyperarcs, ops, parts = _candidates(graph, state, free, early, reserved)
     if not len(hyperarcs):
         return []
-    lay = graph._layout
+    lay = graph.layout
     through = state.totals[hyperarcs] + outside[lay.father[hyperarcs]]
     rank = np.full(len(graph.agents), len(graph.agents))
-    rank[[graph._agent_index[a] for a in free]] = np.arange(len(free))
+    rank[[graph.agent_index[a] for a in free]] = np.arange(len(free))
     agents = lay.agent[hyperarcs]
-    best = float(state.value[graph._root])
+    best = float(state.value[graph.root])
     limit = np.inf if margin is None else best + margin - bottom_up.tolerance(best)
     order = np.lexsort((ops, rank[agents], through))
     order = order[np.isfinite(through[order]) & (through[order] < limit)]
@@ -209,14 +199,14 @@ def _pick(graph, state: _State, free: Sequence[str], early, reserved, margin: fl
     used_nodes: set[int] = set()
     picks: list[TeamStep] = []
     n_free = len(free)
-    op_children, masks = graph._op_children, graph._node_masks
+    op_children, masks = graph.op_children, graph.node_masks
     for i, agent, op in zip(order.tolist(), agents[order].tolist(), ops[order].tolist(), strict=True):
         if agent in used_agents:
             continue
         part = parts[i]
         children = op_children[op]
         if part is not None:
-            bit = 1 << graph._part_index[part]
+            bit = graph.part_bit(part)
             children = tuple(c for c in children if masks[c] & bit)
         if not used_nodes.isdisjoint(children):
             continue
@@ -232,7 +222,7 @@ def _pick(graph, state: _State, free: Sequence[str], early, reserved, margin: fl
 
 
 def team_assign(
-    graph,
+    graph: CompiledGraph,
     *,
     idle: Sequence[str],
     done: Iterable[str] = (),
@@ -258,21 +248,21 @@ def team_assign(
         ConfigError: unknown agents, operations or parts.
     """
     for a in idle:
-        if a not in graph._agent_index:
-            raise ConfigError(f"unknown agent {a!r}; agents are {list(graph._agent_index)}", where="idle")
+        if a not in graph.agent_index:
+            raise ConfigError(f"unknown agent {a!r}; agents are {list(graph.agent_index)}", where="idle")
     done, running = list(done), list(running)
     reserved = dict(reserved or {})
     early = dict(early or {})
     moving: dict[str, str] = {}
     for (action, agent), part in early.items():
-        if agent not in graph._agent_index or part not in graph._part_index:
+        if agent not in graph.agent_index or part not in graph.part_index:
             raise ConfigError(f"early hyper-arc ({action!r}, {agent!r}) names an unknown agent or part "
                               f"{part!r}", where="early")
         if moving.setdefault(action, part) != part:  # a reservation is keyed by its action
             raise ConfigError(f"early hyper-arcs of action {action!r} move {moving[action]!r} and {part!r}; "
                               "an action hands over one part", where="early")
     state = _evaluate(graph, done, running, reserved, _costs(graph, done, reserved, costs, pruned, added))
-    optimum = float(state.value[graph._root])
+    optimum = float(state.value[graph.root])
     free = list(idle)
     steps: list[TeamStep] = []
     while free:

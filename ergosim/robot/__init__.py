@@ -1,4 +1,5 @@
-"""The Panda: MJCF built from example-robot-data's URDF, pinocchio kinematics, IK, trajectories, skills."""
+"""The Panda: MJCF built from example-robot-data's URDF, pinocchio kinematics, IK, trajectories, and skills
+planned as timed programs (skill_motion, skill_plan, skill_program), stepped by an executor (skill_exec)."""
 
 from ergosim.robot.assets import panda_description_dir, panda_mesh_dir, panda_urdf
 from ergosim.robot.ik import IKResult, pose_error, solve_ik
@@ -14,6 +15,9 @@ from ergosim.robot.mjcf import (
     panda_xml,
 )
 from ergosim.robot.model import compile_spec, load_mjcf, panda_mjcf_text, panda_spec
+from ergosim.robot.skill_motion import Motion, MotionPlanner, Waypoint
+from ergosim.robot.skill_plan import CarryGoal, CarryPlan, CarryPlanner, RobotView
+from ergosim.robot.skill_program import SkillProgram
 from ergosim.robot.skills import Handover, PickPlace, Skill, SkillParams, handover, pick_place
 from ergosim.robot.ssm import SSMParams, allowed_speed, protective_distance, speed_scale
 from ergosim.robot.status import SKILL_PHASES, SkillResult, SkillStatus
@@ -61,6 +65,14 @@ __all__ = [
     "load_mjcf",
     "panda_mjcf_text",
     "panda_spec",
+    "Motion",
+    "MotionPlanner",
+    "Waypoint",
+    "CarryGoal",
+    "CarryPlan",
+    "CarryPlanner",
+    "RobotView",
+    "SkillProgram",
     "Handover",
     "PickPlace",
     "Skill",

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ergosim import quat
 from ergosim.robot.urdf import Joint, Link, Origin, Urdf
 
 __all__ = ["PandaGains", "ARM_JOINTS", "FINGER_JOINTS", "ARM_ACTUATORS", "GRIPPER_ACTUATOR", "TCP_SITE",
@@ -55,20 +56,8 @@ def _vec(xs) -> str:
     return " ".join(_num(float(x)) for x in xs)
 
 
-def _quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    w1, x1, y1, z1 = a
-    w2, x2, y2, z2 = b
-    return np.array([w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2, w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
-                     w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2, w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2])
-
-
-def _rotate(q: np.ndarray, v: np.ndarray) -> np.ndarray:
-    qv = np.concatenate([[0.0], v])
-    return _quat_mul(_quat_mul(q, qv), q * np.array([1, -1, -1, -1]))[1:]
-
-
-def _compose(pos: np.ndarray, quat: np.ndarray, origin: Origin) -> tuple[np.ndarray, np.ndarray]:
-    return pos + _rotate(quat, np.array(origin.xyz)), _quat_mul(quat, origin.quat)
+def _compose(pos: np.ndarray, q: np.ndarray, origin: Origin) -> tuple[np.ndarray, np.ndarray]:
+    return pos + quat.rotate(q, np.array(origin.xyz)), quat.mul(q, origin.quat)
 
 
 def _pose_attrs(pos: np.ndarray, quat: np.ndarray) -> str:

@@ -6,7 +6,6 @@ geometry). Anything malformed is a :class:`~ergosim.errors.ModelError` naming th
 
 from __future__ import annotations
 
-import math
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -14,20 +13,9 @@ from pathlib import Path
 import numpy as np
 
 from ergosim.errors import ModelError
+from ergosim.quat import from_rpy
 
-__all__ = ["Origin", "Inertial", "Shape", "Link", "Joint", "Urdf", "read_urdf", "rpy_to_quat"]
-
-
-def rpy_to_quat(rpy: tuple[float, float, float]) -> np.ndarray:
-    """URDF roll-pitch-yaw [rad] (fixed axes x, y, z: R = Rz Ry Rx) -> (4,) quaternion wxyz."""
-    r, p, y = (0.5 * a for a in rpy)
-    cr, sr, cp, sp, cy, sy = math.cos(r), math.sin(r), math.cos(p), math.sin(p), math.cos(y), math.sin(y)
-    return np.array([
-        cr * cp * cy + sr * sp * sy,
-        sr * cp * cy - cr * sp * sy,
-        cr * sp * cy + sr * cp * sy,
-        cr * cp * sy - sr * sp * cy,
-    ])
+__all__ = ["Origin", "Inertial", "Shape", "Link", "Joint", "Urdf", "read_urdf"]
 
 
 @dataclass(frozen=True)
@@ -39,7 +27,8 @@ class Origin:
 
     @property
     def quat(self) -> np.ndarray:
-        return rpy_to_quat(self.rpy)
+        """(4,) wxyz of ``rpy``."""
+        return from_rpy(self.rpy)
 
     @property
     def is_identity_rotation(self) -> bool:

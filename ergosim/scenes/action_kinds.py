@@ -36,11 +36,9 @@ behaviours above (what the target is, whether the part seats, is held, moves its
 from __future__ import annotations
 
 import dataclasses
-import types
-from collections.abc import Mapping
 from typing import Literal
 
-from ergosim.plugins import note_caller
+from ergosim.registry import Registry
 
 __all__ = ["ActionKind", "ACTION_KINDS", "register_action_kind", "action_kind"]
 
@@ -65,25 +63,25 @@ class ActionKind:
     assembly: bool = False
     received: bool = False
 
+    def __post_init__(self) -> None:
+        if self.target not in ("place", "slot", "free"):
+            raise ValueError(f"target must be place, slot or free, got {self.target!r}")
+        if self.holds and not self.seats:
+            raise ValueError("a kind that holds the part once seated must seat it")
 
-_KINDS: dict[str, ActionKind] = {}
-ACTION_KINDS: Mapping[str, ActionKind] = types.MappingProxyType(_KINDS)
-"""Registered kinds by name (a live, read-only view of the registry)."""
+
+ACTION_KINDS: Registry[ActionKind] = Registry("action kind", where="workcell")
+"""Registered kinds by name."""
 
 
 def register_action_kind(kind: ActionKind) -> None:
     """Make ``kind`` usable as ``kind = "NAME"`` in workcell files, in worker processes too."""
-    note_caller()
-    if kind.target not in ("place", "slot", "free"):
-        raise ValueError(f"target must be place, slot or free, got {kind.target!r}")
-    if kind.holds and not kind.seats:
-        raise ValueError("a kind that holds the part once seated must seat it")
-    _KINDS[kind.name] = kind
+    ACTION_KINDS.register(kind.name, kind)
 
 
 def action_kind(name: str) -> ActionKind:
     """The registered kind ``name`` (KeyError if there is none; workcell files are checked on reading)."""
-    return _KINDS[name]
+    return ACTION_KINDS[name]
 
 
 register_action_kind(ActionKind("place", "place", "the part onto a place target on a surface"))

@@ -7,7 +7,6 @@ slot. :class:`~ergosim.scenes.workcell.Workcell` switches them on with the relat
 from __future__ import annotations
 
 import contextlib
-import math
 import warnings
 from collections.abc import Iterator
 
@@ -17,12 +16,13 @@ import numpy as np
 from ergosim.human.mjcf import HOME_POSTURE
 from ergosim.human.mocap import add_mocap_segments
 from ergosim.human.model import HAND_SITES, ROOT_BODY, HumanModel, human_spec
+from ergosim.quat import from_yaw_deg
 from ergosim.robot.handle import PandaHandle
 from ergosim.robot.mjcf import HOME_QPOS
 from ergosim.robot.model import compile_spec, panda_spec
 from ergosim.scenes.cellspec import Surface, Worker
 
-__all__ = ["weld_name", "seat_name", "receive_name", "yaw_quat", "new_spec", "add_table", "add_box",
+__all__ = ["weld_name", "seat_name", "receive_name", "new_spec", "add_table", "add_box",
            "attach_panda", "attach_human", "add_welds", "human_hand_bodies", "finish"]
 
 WOOD = (0.72, 0.6, 0.45, 1.0)
@@ -40,11 +40,6 @@ def seat_name(part: str) -> str:
 def receive_name(part: str) -> str:
     """The weld by which a receiver outside the cell holds ``part`` (the handover kind)."""
     return f"receive_{part}"
-
-
-def yaw_quat(yaw_deg: float) -> list[float]:
-    h = math.radians(yaw_deg) / 2
-    return [math.cos(h), 0.0, 0.0, math.sin(h)]
 
 
 @contextlib.contextmanager
@@ -120,7 +115,7 @@ def attach_panda(spec: mujoco.MjSpec, base, yaw: float, timestep: float,
     if support_height is not None and z - support_height > 0.005:
         half = (z - support_height) / 2
         add_box(spec, f"{prefix}robot_pedestal", (x - 0.04, y, support_height + half), (0.13, 0.11, half))
-    frame = spec.worldbody.add_frame(name=f"{prefix}robot_base", pos=list(base), quat=yaw_quat(yaw))
+    frame = spec.worldbody.add_frame(name=f"{prefix}robot_base", pos=list(base), quat=from_yaw_deg(yaw))
     panda = panda_spec()
     panda.option.timestep = timestep  # the scene's options win; equal values avoid a conflict notice
     with _quiet_attach():
@@ -139,7 +134,7 @@ def attach_human(spec: mujoco.MjSpec, worker: Worker) -> mujoco.MjModel:
     kin_spec = mujoco.MjSpec()
     kin_spec.modelname = "human_kinematics"
     kin_spec.compiler.degree = False
-    frame = kin_spec.worldbody.add_frame(name="worker", pos=[*worker.xy, 0.0], quat=yaw_quat(worker.yaw))
+    frame = kin_spec.worldbody.add_frame(name="worker", pos=[*worker.xy, 0.0], quat=from_yaw_deg(worker.yaw))
     human = human_spec(worker.stature, dict(worker.human_scale), keyframe=None)
     with _quiet_attach():
         frame.attach_body(human.body(ROOT_BODY), "", "")

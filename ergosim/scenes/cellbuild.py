@@ -10,10 +10,11 @@ from __future__ import annotations
 
 import mujoco
 
+from ergosim.quat import from_axis_to, from_rpy, from_yaw_deg
 from ergosim.robot.handle import robot_prefix
 from ergosim.scenes import build
 from ergosim.scenes.action_kinds import action_kind
-from ergosim.scenes.cellspec import Box, CellSpec, Shelf, Table, quat_axis_to, rpy_quat, yaw_quat
+from ergosim.scenes.cellspec import Box, CellSpec, Shelf, Table
 from ergosim.scenes.clearance import check_clearance
 from ergosim.scenes.shapes import add_part_body
 from ergosim.scenes.workcell import ActionGeometry, Workcell
@@ -80,8 +81,10 @@ def _furniture(mspec: mujoco.MjSpec, spec: CellSpec) -> None:
 def _part_pose(spec: CellSpec, part) -> tuple[list[float], list[float]]:
     if part.xy is not None:
         surface = spec.surfaces()[part.on] if part.on not in (None, "auto") else spec.surface_under(part.xy)
-        return [part.xy[0], part.xy[1], surface.height + part.rest_height()], yaw_quat(part.yaw)
-    return list(part.pos), (rpy_quat(part.rpy) if part.rpy is not None else yaw_quat(part.yaw))
+        return [part.xy[0], part.xy[1], surface.height + part.rest_height()], from_yaw_deg(part.yaw)
+    if part.rpy is not None:
+        return list(part.pos), from_rpy(part.rpy, degrees=True)
+    return list(part.pos), from_yaw_deg(part.yaw)
 
 
 def build_cell(spec: CellSpec) -> Workcell:
@@ -110,7 +113,7 @@ def build_cell(spec: CellSpec) -> Workcell:
         slot = slots[a.target]
         part = spec.part(a.part)
         centre = [slot.at[i] + part.insert_half_length * slot.axis[i] for i in range(3)]
-        quat = quat_axis_to(part.insert_axis, slot.axis).tolist()
+        quat = from_axis_to(part.insert_axis, slot.axis).tolist()
         bodies[slot.host].add_site(name=seat_site(slot.host, a.part), pos=centre, quat=quat, group=4)
         if a.handover == a.target:
             out = [centre[i] + PRESENT_STANDOFF * slot.axis[i] for i in range(3)]
@@ -121,11 +124,11 @@ def build_cell(spec: CellSpec) -> Workcell:
             pos = [*t.xy, surfaces[t.on].height + spec.part(t.part).rest_height()]
         else:
             pos = list(t.pos)
-        m.worldbody.add_site(name=t.name, pos=pos, quat=yaw_quat(t.yaw), group=4)
+        m.worldbody.add_site(name=t.name, pos=pos, quat=from_yaw_deg(t.yaw), group=4)
         for a in spec.actions:
             if a.handover is not None and a.handover == a.target == t.name:
                 above = [pos[0], pos[1], pos[2] + PRESENT_STANDOFF]
-                m.worldbody.add_site(name=present_site(a.label), pos=above, quat=yaw_quat(t.yaw), group=4)
+                m.worldbody.add_site(name=present_site(a.label), pos=above, quat=from_yaw_deg(t.yaw), group=4)
     # insertion is a weld within tolerance (Workcell.seat), not a contact simulation of the fit
     for host, part in seats:
         m.add_exclude(bodyname1=host, bodyname2=part)

@@ -22,6 +22,8 @@ import numpy as np
 
 from ergosim.errors import ConfigError
 from ergosim.human.anthropometry import SEGMENT_SCALES
+from ergosim.overrides import finite_float
+from ergosim.quat import from_rpy, to_mat
 from ergosim.robot.ssm import SSMParams
 from ergosim.scenes.cellspec import (
     ACTION_KINDS,
@@ -39,7 +41,8 @@ from ergosim.scenes.cellspec import (
     Worker,
 )
 
-__all__ = ["read_cell_file", "parse_cell", "apply_cell_overrides", "cell_keys", "MAX_FILE_BYTES"]
+__all__ = ["read_cell_file", "parse_cell", "apply_cell_overrides", "override_paths", "cell_keys",
+           "MAX_FILE_BYTES"]
 
 MAX_FILE_BYTES = 4 * 1024 * 1024
 """Largest workcell or scenario file read [bytes]; a cell is a few kB."""
@@ -99,8 +102,9 @@ def read_toml(path: str | os.PathLike[str], what: str) -> dict[str, Any]:
 
 
 # -- values ----------------------------------------------------------------------------------------------
-def _value(raw: Any, kind: Any, where: str) -> Any:
-    """``raw`` (a TOML value or a ``--set`` string) as ``kind``; ConfigError naming ``where`` otherwise."""
+def _value(raw: Any, kind: Any, where: str, name: str = "value") -> Any:
+    """``raw`` (a TOML value or a ``--set`` string) of the field ``name`` as ``kind``; ConfigError naming
+    ``where`` otherwise."""
     if kind == "str":
         if not isinstance(raw, str) or not raw:
             raise ConfigError(f"expected a non-empty string, got {raw!r}", where=where)
@@ -117,22 +121,14 @@ def _value(raw: Any, kind: Any, where: str) -> Any:
             return raw.lower() in ("true", "1", "yes")
         raise ConfigError(f"expected true or false, got {raw!r}", where=where)
     if kind == "float":
-        if isinstance(raw, bool):
-            raise ConfigError(f"expected a number, got {raw!r}", where=where)
-        try:
-            v = float(raw)
-        except (TypeError, ValueError):
-            raise ConfigError(f"expected a number, got {raw!r}", where=where) from None
-        if not math.isfinite(v):
-            raise ConfigError(f"expected a finite number, got {raw!r}", where=where)
-        return v
+        return finite_float(raw, name, where=where)
     if kind == "axis":
         if isinstance(raw, str):
             if raw not in _AXES:
                 raise ConfigError(f"expected one of {', '.join(_AXES)} or 3 numbers, got {raw!r}",
                                   where=where)
             return _AXES[raw]
-        v = _value(raw, ("floats", 3), where)
+        v = _value(raw, ("floats", 3), where, name)
         n = math.sqrt(sum(x * x for x in v))
         if n < 1e-9:
             raise ConfigError("the axis must not be zero", where=where)
@@ -140,7 +136,7 @@ def _value(raw: Any, kind: Any, where: str) -> Any:
     if kind == "pairs":
         if not isinstance(raw, list | tuple):
             raise ConfigError(f"expected [[segment, factor], ...], got {raw!r}", where=where)
-        return tuple((str(s), _value(f, "float", where)) for s, f in raw)
+        return tuple((str(s), _value(f, "float", where, str(s))) for s, f in raw)
     if isinstance(kind, tuple) and kind[0] == "floats":
         n = kind[1]
         items = [s for s in raw.split(",") if s.strip()] if isinstance(raw, str) else raw
@@ -148,7 +144,7 @@ def _value(raw: Any, kind: Any, where: str) -> Any:
             raise ConfigError(f"expected {n} numbers, got {raw!r}", where=where)
         if n is not None and len(items) != n:
             raise ConfigError(f"expected {n} numbers, got {len(items)} ({raw!r})", where=where)
-        return tuple(_value(x, "float", where) for x in items)
+        return tuple(_value(x, "float", where, name) for x in items)
     raise AssertionError(kind)
 
 
@@ -161,7 +157,8 @@ def _fields(table: Any, schema: Mapping[str, Any], where: str, required: tuple[s
     missing = [k for k in required if k not in table]
     if missing:
         raise ConfigError(f"missing key {missing[0]!r}", where=where)
-    return {k: _value(v, schema[k], f"{where}.{k}") if schema[k] != "slots" else v for k, v in table.items()}
+    return {k: _value(v, schema[k], f"{where}.{k}", k) if schema[k] != "slots" else v
+            for k, v in table.items()}
 
 
 # -- overrides -------------------------------------------------------------------------------------------
@@ -193,9 +190,7 @@ def apply_cell_overrides(doc: Mapping[str, Any], overrides: Mapping[str, Any], w
     aliases = out.get("aliases") or {}
     valid = set(cell_keys(out))
     for key, value in overrides.items():
-        paths = aliases.get(key, key)
-        paths = [paths] if isinstance(paths, str) else list(paths)
-        for path in paths:
+        for path in override_paths(out, key):
             if path not in valid:
                 sample = ", ".join(sorted(aliases) or cell_keys(out)[:12])
                 raise ConfigError(f"unknown key {key!r}; valid keys include: {sample} (or a dotted path such "
@@ -212,6 +207,13 @@ def apply_cell_overrides(doc: Mapping[str, Any], overrides: Mapping[str, Any], w
             for other in _EXCLUSIVE.get((head[0], last), ()) if head else ():
                 node.pop(other, None)  # a full pose replaces a resting placement, and the other way round
     return out
+
+
+def override_paths(doc: Mapping[str, Any], key: str) -> list[str]:
+    """The dotted paths of ``doc`` that the override ``key`` sets: ``key`` itself, or what its alias stands
+    for (the file's ``[aliases]``)."""
+    paths = (doc.get("aliases") or {}).get(key, key)
+    return [paths] if isinstance(paths, str) else list(paths)
 
 
 _EXCLUSIVE = {("parts", "pos"): ("xy", "on"), ("parts", "xy"): ("pos", "rpy"),
@@ -251,24 +253,14 @@ def _coerce(raw: str, kind: Any, key: str, where: str) -> Any:
             if not pairs or any(len(p) != 2 or not p[0].strip() for p in pairs):
                 raise ConfigError(f"{said}: expected name:value pairs separated by commas, e.g. "
                                   f"{key}=upper_arm:1.1,forearm:0.95", where=where)
-            return [[name.strip(), _number(v, said, where)] for name, v in pairs]
+            return [[name.strip(), finite_float(v.strip(), name.strip(), where=where)] for name, v in pairs]
         if n is not None and len(items) != n:
             got = len(items)
             raise ConfigError(f"{said} has {got} value{'s' if got != 1 else ''}, expected {n} "
                               f"(comma-separated, e.g. {key}={','.join(['0'] * n)})", where=where)
-        return [_number(v, said, where) for v in items]
-    v = _value(raw, kind, f"{where} {key}")
+        return [finite_float(v, key, where=where) for v in items]
+    v = _value(raw, kind, f"{where} {key}", key)
     return list(v) if isinstance(v, tuple) else v
-
-
-def _number(text: str, said: str, where: str) -> float:
-    try:
-        v = float(text)
-    except ValueError:
-        raise ConfigError(f"{said}: {text.strip()!r} is not a number", where=where) from None
-    if not math.isfinite(v):
-        raise ConfigError(f"{said}: {text.strip()!r} is not a finite number", where=where)
-    return v
 
 
 # -- parsing ---------------------------------------------------------------------------------------------
@@ -498,11 +490,7 @@ def _check_part_pose(spec: CellSpec, p: Part, surfaces, where: str) -> None:
 
 def _lowest(p: Part) -> float:
     """Depth [m] of the part's lowest point below its frame origin at its pose."""
-    from ergosim.scenes.cellspec import rpy_quat  # noqa: PLC0415
-
-    q = rpy_quat(p.rpy or (0.0, 0.0, p.yaw))
-    w, x, y, z = q
-    row = np.array([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)])  # R[2, :]
+    row = to_mat(from_rpy(p.rpy or (0.0, 0.0, p.yaw), degrees=True))[2]
     return float(np.abs(row) @ np.array(p.half_extents)) if p.shape != "socket_block" else p.rest_height()
 
 

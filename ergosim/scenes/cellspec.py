@@ -9,7 +9,6 @@ Parsing and every check that needs no physics live in :mod:`ergosim.scenes.cellf
 from __future__ import annotations
 
 import dataclasses
-import math
 from typing import Literal
 
 import numpy as np
@@ -336,39 +335,3 @@ class CellSpec:
                 return v
         raise ConfigError(f"unknown view {name!r}; the workcell {self.name!r} has: "
                           f"{', '.join(v.name for v in self.views)}", where=f"{self.source}: [views]")
-
-
-def quat_axis_to(axis_from: str, axis: tuple[float, float, float]) -> np.ndarray:
-    """Unit quaternion wxyz taking local axis ``axis_from`` ("x" | "y" | "z") onto the direction ``axis``.
-
-    The principal cases keep the part's other faces parallel to the host's (exact values, no rounding
-    drift): x->x identity, x->y yaw +90 deg, x->z pitch -90 deg."""
-    src = np.eye(3)["xyz".index(axis_from)]
-    dst = np.asarray(axis, dtype=float)
-    dst = dst / np.linalg.norm(dst)
-    if np.array_equal(src, dst):
-        return np.array([1.0, 0, 0, 0])
-    if axis_from == "x" and np.array_equal(dst, [0, 1.0, 0]):
-        return np.array([np.cos(np.pi / 4), 0, 0, np.sin(np.pi / 4)])
-    if axis_from == "x" and np.array_equal(dst, [0, 0, 1.0]):
-        return np.array([np.cos(np.pi / 4), 0, -np.sin(np.pi / 4), 0])
-    c = float(np.dot(src, dst))
-    if c < -1 + 1e-12:  # opposite: half a turn about any perpendicular axis
-        perp = np.eye(3)[(("xyz".index(axis_from)) + 1) % 3]
-        return np.array([0.0, *perp])
-    v = np.cross(src, dst)
-    q = np.array([1.0 + c, *v])
-    return q / np.linalg.norm(q)
-
-
-def yaw_quat(yaw_deg: float) -> list[float]:
-    h = math.radians(yaw_deg) / 2
-    return [math.cos(h), 0.0, 0.0, math.sin(h)]
-
-
-def rpy_quat(rpy_deg) -> np.ndarray:
-    """wxyz of roll, pitch, yaw [deg] applied about fixed x, y, z (R = Rz Ry Rx)."""
-    r, p, y = (math.radians(a) / 2 for a in rpy_deg)
-    cr, sr, cp, sp, cy, sy = math.cos(r), math.sin(r), math.cos(p), math.sin(p), math.cos(y), math.sin(y)
-    return np.array([cr * cp * cy + sr * sp * sy, sr * cp * cy - cr * sp * sy,
-                     cr * sp * cy + sr * cp * sy, cr * cp * sy - sr * sp * cy])

@@ -12,23 +12,22 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from ergosim.errors import ConfigError
-from ergosim.plugins import note_caller
+from ergosim.registry import Registry
 from ergosim.scenes.cellbuild import build_cell
 from ergosim.scenes.cellfile import apply_cell_overrides, parse_cell, read_cell_file
 from ergosim.scenes.cellspec import CellSpec
 from ergosim.scenes.workcell import Workcell
 
-__all__ = ["register_scene", "scene_names", "scene_path", "cell_document", "load_cell", "default_config",
-           "build_scene"]
+__all__ = ["SCENES", "register_scene", "scene_names", "scene_path", "cell_document", "load_cell",
+           "default_config", "build_scene"]
 
-_SCENES: dict[str, Path] = {}
+SCENES: Registry[Path] = Registry("scene", where="scene")
+"""The workcell files by name."""
 
 
 def register_scene(name: str, path: str | os.PathLike[str]) -> None:
     """Make the workcell file at ``path`` buildable by ``name``."""
-    note_caller()
-    _SCENES[name] = Path(path)
+    SCENES.register(name, Path(path))
 
 
 for _f in sorted(resources.files("ergosim").joinpath("data", "cells").iterdir(), key=lambda f: f.name):
@@ -37,15 +36,13 @@ for _f in sorted(resources.files("ergosim").joinpath("data", "cells").iterdir(),
 
 
 def scene_names() -> tuple[str, ...]:
-    return tuple(_SCENES)
+    return SCENES.names()
 
 
 def scene_path(name: str) -> Path:
     """The file of registered workcell ``name`` (``multi_subject`` finds ``multi-subject``)."""
-    path = _SCENES.get(name) or _SCENES.get(name.replace("_", "-"))
-    if path is None:
-        raise ConfigError(f"unknown scene {name!r}; valid scenes: {', '.join(_SCENES)}", where="scene")
-    return path
+    dashed = name.replace("_", "-")
+    return SCENES.get(dashed if name not in SCENES and dashed in SCENES else name)
 
 
 def _source(path: Path) -> str:

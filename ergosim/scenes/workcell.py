@@ -15,6 +15,7 @@ import numpy as np
 
 from ergosim.errors import ConfigError
 from ergosim.human.mocap import MocapHuman
+from ergosim.quat import angle_deg, conj, from_mat
 from ergosim.robot.handle import PandaHandle, robot_prefix
 from ergosim.scenes.action_kinds import ActionKind, action_kind
 from ergosim.scenes.build import receive_name, seat_name, weld_name
@@ -75,14 +76,6 @@ class SeatResult(NamedTuple):
 _ROBOT_BIT = 2  # the robot's collision geoms have contype 2 (PART_COLLISION accepts it)
 
 
-def _quat_conj(q: np.ndarray) -> np.ndarray:
-    return q * np.array([1.0, -1.0, -1.0, -1.0])
-
-
-def _quat_angle_deg(q: np.ndarray) -> float:
-    return float(np.degrees(2 * np.arccos(np.clip(abs(q[0]), 0.0, 1.0))))
-
-
 class Workcell:
     """One scene instance built from ``spec`` (:class:`~ergosim.scenes.cellspec.CellSpec`, also
     :attr:`config`). ``hand_bodies``: holder name -> body that holds (``panda_hand``, human hands).
@@ -125,9 +118,7 @@ class Workcell:
     # -- poses ----------------------------------------------------------------------------------------------
     def site_pose(self, name: str) -> tuple[np.ndarray, np.ndarray]:
         i = self.model.site(name).id
-        quat = np.empty(4)
-        mujoco.mju_mat2Quat(quat, self.data.site_xmat[i])
-        return self.data.site_xpos[i].copy(), quat
+        return self.data.site_xpos[i].copy(), from_mat(self.data.site_xmat[i])
 
     def body_pose(self, name: str) -> tuple[np.ndarray, np.ndarray]:
         i = self.model.body(name).id
@@ -194,7 +185,7 @@ class Workcell:
         p2, q2 = self.data.xpos[b2], self.data.xquat[b2]
         r1 = self.data.xmat[b1].reshape(3, 3)
         rel_q = np.empty(4)
-        mujoco.mju_mulQuat(rel_q, _quat_conj(q1), q2)
+        mujoco.mju_mulQuat(rel_q, conj(q1), q2)
         self.model.eq_data[eq, 0:3] = 0.0
         self.model.eq_data[eq, 3:6] = r1.T @ (p2 - p1)
         self.model.eq_data[eq, 6:10] = rel_q
@@ -275,14 +266,13 @@ class Workcell:
     # -- assembly -------------------------------------------------------------------------------------------
     def seat_error(self, part: str) -> tuple[float, float]:
         """Distance [m] and angle [deg] between ``part`` and its seated pose in its slot."""
-        pos, quat = self.body_pose(part)
+        pos, q = self.body_pose(part)
         i = self._seat_site[part]
         spos = self.data.site_xpos[i].copy()
-        squat = np.empty(4)
-        mujoco.mju_mat2Quat(squat, self.data.site_xmat[i])
+        squat = from_mat(self.data.site_xmat[i])
         dq = np.empty(4)
-        mujoco.mju_mulQuat(dq, _quat_conj(squat), quat)
-        return float(np.linalg.norm(pos - spos)), _quat_angle_deg(dq)
+        mujoco.mju_mulQuat(dq, conj(squat), q)
+        return float(np.linalg.norm(pos - spos)), angle_deg(dq)
 
     def seat(self, part: str) -> SeatResult:
         """Weld ``part`` to its slot's host at its exact seated pose if within the seat tolerances."""

@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from ergosim.errors import ConfigError
+from ergosim.experiment.subject_records import RECORDS_FILE, read_records
 from ergosim.sweep.metrics import DEFAULT_METRICS, check_metric, unit_metrics
 from ergosim.sweep.stats import mean_ci, paired_difference, unpaired_difference
 
@@ -58,16 +59,14 @@ def read_folder(path: str | Path) -> Folder:
         raise ConfigError("not a directory", where=str(path))
     if (path / "results.parquet").is_file() and (path / "sweep.json").is_file():
         return _sweep_folder(path)
-    if (path / "subject_records.json").is_file():
+    if (path / RECORDS_FILE).is_file():
         return _run_folder(path)
     raise ConfigError("neither a run folder (subject_records.json) nor a sweep folder (results.parquet, "
                       "sweep.json)", where=str(path))
 
 
 def _run_folder(path: Path) -> Folder:
-    from ergosim.twin.subject_records import read_records  # noqa: PLC0415
-
-    header, records = read_records(path / "subject_records.json")
+    header, records = read_records(path / RECORDS_FILE)
     actions = tuple(sorted(records[0].alphas)) if records else ()
     rows = []
     for rec in records:

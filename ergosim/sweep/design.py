@@ -48,9 +48,9 @@ from typing import Any
 import numpy as np
 
 from ergosim.errors import ConfigError, ErgosimError
+from ergosim.experiment.scenario import Scenario, load_scenario, scenario_names
 from ergosim.scenes.cellfile import MAX_FILE_BYTES, read_toml
 from ergosim.sweep.metrics import DEFAULT_METRICS, check_metric
-from ergosim.twin.scenariofile import Scenario, load_scenario, scenario_names
 
 __all__ = ["Axis", "Cell", "Sampling", "Sweep", "load_sweep", "parse_sweep", "set_string", "MAX_CELLS",
            "MAX_UNITS", "SAMPLE_METHODS"]

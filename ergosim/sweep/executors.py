@@ -24,9 +24,10 @@ from pathlib import Path
 from typing import Any
 
 from ergosim.errors import ConfigError, ErgosimError
+from ergosim.experiment.interrupt import quiet_worker, signals_ignored, stop_pool
+from ergosim.logs import configured_level
 from ergosim.plugins import extension_modules
 from ergosim.sweep.units import Unit, failed_document, run_unit
-from ergosim.twin.interrupt import quiet_worker, signals_ignored, stop_pool
 
 __all__ = ["Executor", "LocalExecutor", "RayExecutor", "SweepError", "make_executor", "EXECUTORS"]
 
@@ -91,7 +92,7 @@ class LocalExecutor(Executor):
 
         with signals_ignored():  # the workers start here and inherit SIG_IGN
             self._pool = cf.ProcessPoolExecutor(max_workers=self.workers, mp_context=ctx,
-                                                initializer=quiet_worker)
+                                                initializer=quiet_worker, initargs=(configured_level(),))
             fill()
         while pending:
             done, _ = cf.wait(pending, timeout=0.5, return_when=cf.FIRST_COMPLETED)

@@ -31,8 +31,8 @@ from typing import Any
 from ergosim import __version__
 from ergosim.atomic import write_json, write_text
 from ergosim.errors import ConfigError
+from ergosim.experiment.run_folder import MANIFEST as RUN_MANIFEST
 from ergosim.sweep.units import UNIT_FORMAT
-from ergosim.twin.run_folder import MANIFEST as RUN_MANIFEST
 
 __all__ = ["SweepFolder", "SWEEP_MANIFEST", "SWEEP_STATUSES", "PLOT_PATTERNS"]
 

@@ -1,7 +1,7 @@
 """The figures of one subject's run in one mode, as the columns of a sweep's ``results.parquet``.
 
-They are the per-subject figures of ``summary.json`` (:func:`~ergosim.twin.report.summarise`), computed
-by the same code from a :class:`~ergosim.twin.subject_records.RunRecord`, so a sweep unit and the same
+They are the per-subject figures of ``summary.json`` (:func:`~ergosim.experiment.summary.summarise`), computed
+by the same code from a :class:`~ergosim.experiment.subject_records.RunRecord`, so a sweep unit and the same
 subject in ``ergosim run`` agree. Per-action metrics are named ``<metric>.<action>``
 (``robot_share.a1``, ``rula_g.a1``).
 """
@@ -11,7 +11,7 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 
 from ergosim.errors import ConfigError
-from ergosim.twin.report import summarise
+from ergosim.experiment.summary import summarise
 
 __all__ = ["METRICS", "ACTION_METRICS", "DEFAULT_METRICS", "INTEGER_METRICS", "metric_columns",
            "check_metric", "unit_metrics", "metric_label"]

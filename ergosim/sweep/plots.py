@@ -22,9 +22,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from ergosim.experiment.plots import save_figure  # noqa: E402
 from ergosim.sweep.metrics import metric_label  # noqa: E402
 from ergosim.sweep.stats import mean_ci  # noqa: E402
-from ergosim.twin.plots import save_figure  # noqa: E402
 
 __all__ = ["write_sweep_plots", "MAX_HEATMAP_LEVELS", "MAX_PAIRS"]
 

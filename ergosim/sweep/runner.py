@@ -11,6 +11,7 @@ error and the sweep goes on.
 from __future__ import annotations
 
 import dataclasses
+import logging
 import os
 import sys
 import time
@@ -20,15 +21,17 @@ from typing import Any
 
 from tqdm import tqdm
 
+from ergosim.experiment.interrupt import interrupt_on_signals, stop_reason
 from ergosim.sweep.executors import make_executor
 from ergosim.sweep.folder import SweepFolder
 from ergosim.sweep.plots import write_sweep_plots
 from ergosim.sweep.stats import cell_statistics
-from ergosim.sweep.tables import allocations_table, results_table, write_parquet
-from ergosim.sweep.units import Unit, plan_units
-from ergosim.twin.interrupt import interrupt_on_signals, stop_reason
+from ergosim.sweep.tables import results_table, unit_rows_table, write_parquet
+from ergosim.sweep.units import UNIT_OUTPUTS, Unit, plan_units
 
 __all__ = ["SweepResult", "run_sweep", "CONSOLIDATE_EVERY", "EXIT_INCOMPLETE"]
+
+log = logging.getLogger(__name__)
 
 CONSOLIDATE_EVERY = 60.0
 """Seconds between consolidations of results.parquet while the sweep runs."""
@@ -65,7 +68,8 @@ def _consolidate(sweep, folder: SweepFolder, units: Sequence[Unit], docs: Mappin
                  plots: bool) -> tuple[set[int], list[str]]:
     table = results_table(sweep, units, docs)
     write_parquet(folder.path / "results.parquet", table)
-    write_parquet(folder.path / "allocations.parquet", allocations_table(units, docs))
+    for o in UNIT_OUTPUTS:
+        write_parquet(folder.path / f"{o.name}.parquet", unit_rows_table(o, units, docs))
     complete = _complete_cells(units, docs)
     rows = table.to_pylist()
     write_parquet(folder.path / "cells.parquet", cell_statistics(sweep, rows, complete))
@@ -111,6 +115,8 @@ def run_sweep(sweep, out: str | Path, *, executor: str = "local", jobs: int | No
         skipped = len(docs)
         # a unit shared by two cells (the same resolved scenario) runs once
         todo = list({u.id: u for u in units if u.id not in docs}.values())
+        log.debug("%s: %d unit(s), %d finished in %s, %d to run", sweep.name, len(units), skipped, out,
+                  len(todo))
         if sweep_text is not None:
             folder.write_sweep_file(sweep_text)
         described: dict[str, Any] = {"executor": executor}
@@ -131,6 +137,10 @@ def run_sweep(sweep, out: str | Path, *, executor: str = "local", jobs: int | No
                             tasks = ((sweep.scenarios[u.cell], u) for u in todo)
                             for doc in ex.imap(tasks, sweep.actions):
                                 folder.write_unit(doc)
+                                log.debug("unit %s (cell %d, subject %d, seed %d, %s): %s in %.1f s%s",
+                                          doc["id"], doc["cell"], doc["subject"], doc["seed"], doc["mode"],
+                                          doc["status"], doc["wall_s"], f": {doc['error']}" if doc["error"]
+                                          else "")
                                 docs[doc["id"]] = doc
                                 ran += 1
                                 bar.update(1)

@@ -4,7 +4,7 @@ per-cell table ``cells.parquet``.
 Means: Student's t interval, mean ± t_{0.975, n-1} s / √n (n ≥ 2; one value has no interval). Paired
 differences (the same subject and seed in both, e.g. two modes of one cell): the t interval of the
 differences and the two-sided Wilcoxon signed-rank test, as the paper's §7.2 compares hrc with h-only
-(:func:`~ergosim.twin.report.wilcoxon_between`). Unpaired differences: Welch's t interval and the
+(:func:`~ergosim.experiment.summary.wilcoxon_between`). Unpaired differences: Welch's t interval and the
 two-sided Mann-Whitney U test. A cell's statistics are computed only once every unit of the cell has
 finished; failed units (no metrics) are left out and counted, abandoned ones are kept.
 """
@@ -19,8 +19,8 @@ import numpy as np
 import pyarrow as pa
 from scipy import stats
 
+from ergosim.experiment.summary import wilcoxon_between
 from ergosim.sweep.tables import param_type, param_value
-from ergosim.twin.report import wilcoxon_between
 
 __all__ = ["mean_ci", "paired_difference", "unpaired_difference", "cell_statistics", "group_values",
            "CONFIDENCE", "STAT_SUFFIXES", "DIFF_SUFFIXES"]

@@ -10,7 +10,9 @@
   ``robot_failures``, ``worker_failures``, ... and ``rula_g.<a>``; null where the unit failed.
 
 A unit not finished yet has no row. ``allocations.parquet`` has one row per attempt of every finished unit
-(``unit``, ``cell``, ``subject``, ``seed``, ``mode`` and the columns of ``allocations.csv``). Both are
+(``unit``, ``cell``, ``subject``, ``seed``, ``mode`` and the attempt's columns of ``allocations.csv``): a
+run output with a ``unit_table`` (:data:`~ergosim.experiment.outputs.OUTPUTS`) becomes ``<name>.parquet``
+through :func:`unit_rows_table`. Both are
 written atomically; the same finished units give the same rows whichever executor ran them.
 """
 
@@ -25,10 +27,11 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from ergosim.atomic import write_bytes
+from ergosim.experiment.outputs import Output
 from ergosim.sweep.metrics import INTEGER_METRICS, metric_columns
-from ergosim.sweep.units import ALLOCATION_FIELDS, Unit
+from ergosim.sweep.units import Unit
 
-__all__ = ["results_table", "allocations_table", "param_type", "param_value", "write_parquet", "read_parquet",
+__all__ = ["results_table", "unit_rows_table", "param_type", "param_value", "write_parquet", "read_parquet",
            "RESULT_KEYS"]
 
 RESULT_KEYS = ("unit", "cell", "subject", "seed", "mode", "status", "error")
@@ -86,21 +89,21 @@ def results_table(sweep, units: Sequence[Unit], docs: Mapping[str, dict]) -> pa.
     return pa.table(data, schema=pa.schema(fields))
 
 
-def allocations_table(units: Sequence[Unit], docs: Mapping[str, dict]) -> pa.Table:
-    """One row per attempt of each finished unit, in ``units`` order, then the unit's attempt order."""
-    kinds = {"repetition": pa.int32(), "order": pa.int32(), "attempt": pa.int32(), "t_start": pa.float64(),
-             "t_end": pa.float64(), "human_cost": pa.float64(), "robot_cost": pa.float64()}
+def unit_rows_table(output: Output, units: Sequence[Unit], docs: Mapping[str, dict]) -> pa.Table:
+    """``<output>.parquet``: the unit's own columns, then the rows of ``output`` each finished unit kept
+    (:attr:`~ergosim.experiment.outputs.Output.unit_table`), in ``units`` order, then each unit's order."""
+    columns = output.unit_table.columns
     fields = [pa.field("unit", pa.string()), pa.field("cell", pa.int32()), pa.field("subject", pa.int32()),
               pa.field("seed", pa.int64()), pa.field("mode", pa.string())]
-    fields += [pa.field(f, kinds.get(f, pa.string())) for f in ALLOCATION_FIELDS]
+    fields += [pa.field(name, pa.type_for_alias(kind)) for name, kind in columns]
     data: dict[str, list] = {f.name: [] for f in fields}
     for u in units:
         doc = docs.get(u.id)
-        for row in (doc or {}).get("allocations", []):
+        for row in (doc or {}).get(output.name, []):
             for key in ("unit", "cell", "subject", "seed", "mode"):
                 data[key].append(u.id if key == "unit" else getattr(u, key))
-            for f, v in zip(ALLOCATION_FIELDS, row, strict=True):
-                data[f].append(v)
+            for (name, _), v in zip(columns, row, strict=True):
+                data[name].append(v)
     return pa.table(data, schema=pa.schema(fields))
 
 

@@ -1,8 +1,8 @@
 """Work units of a sweep: one (cell, subject, mode, seed) simulation each, identified by what determines it.
 
-A unit runs :func:`~ergosim.twin.runner.run_subject` for one subject and one mode, with the mode's random
-stream of the whole run (its slot), so a unit equals that subject and mode in ``ergosim run`` of the same
-cell. Its id is a hash of everything its result depends on (the resolved scenario: protocol, task,
+A unit runs :func:`~ergosim.experiment.runner.run_subject` for one subject and one mode, with the mode's
+random stream of the whole run (its slot), so a unit equals that subject and mode in ``ergosim run`` of the
+same cell. Its id is a hash of everything its result depends on (the resolved scenario: protocol, task,
 workcell and overrides; subject, seed, mode, slot; the ergosim version and the code's fingerprint), so a
 re-run over the same folder finds the units already done even after the sweep file grew, and never takes
 a unit of another study, or of other code, for one of this. :func:`run_unit` never raises for a failed
@@ -24,13 +24,15 @@ from typing import Any
 
 from ergosim import __version__
 from ergosim.errors import ErgosimError
+from ergosim.experiment.outputs import OUTPUTS
+from ergosim.experiment.scenario import Scenario
+from ergosim.experiment.subject_records import RunRecord
+from ergosim.overrides import flat_values
 from ergosim.plugins import import_extensions
 from ergosim.sweep.fingerprint import code_fingerprint
 from ergosim.sweep.metrics import unit_metrics
-from ergosim.twin.scenariofile import Scenario
-from ergosim.twin.subject_records import RunRecord
 
-__all__ = ["Unit", "UNIT_FORMAT", "UNIT_STATUSES", "ALLOCATION_FIELDS", "unit_scenario", "unit_id",
+__all__ = ["Unit", "UNIT_FORMAT", "UNIT_STATUSES", "UNIT_OUTPUTS", "unit_scenario", "unit_id",
            "plan_units", "run_unit", "failed_document"]
 
 UNIT_FORMAT = "ergosim-sweep-unit/1"
@@ -38,8 +40,9 @@ UNIT_STATUSES = ("complete", "abandoned", "failed")
 """``complete``: every repetition completed; ``abandoned``: the run ended but a repetition was abandoned
 (no agent left able to finish it; the metrics are those of the run); ``failed``: the unit raised (a cell
 certain to fail, a crash), its metrics are empty and ``error`` says why."""
-ALLOCATION_FIELDS = ("repetition", "order", "action", "agent", "status", "attempt", "forced", "t_start",
-                     "t_end", "human_cost", "robot_cost")
+UNIT_OUTPUTS = tuple(o for o in OUTPUTS if o.unit_table is not None)
+"""The run outputs whose rows every unit's document keeps under the output's name, gathered into
+``<name>.parquet`` (:mod:`ergosim.sweep.tables`)."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -58,8 +61,7 @@ class Unit:
 
 def unit_scenario(scenario: Scenario, mode: str) -> Scenario:
     """``scenario`` as one unit runs it: one subject, one mode (neither changes the simulation)."""
-    protocol = dataclasses.replace(scenario.protocol, subjects=1, modes=(mode,))
-    return dataclasses.replace(scenario, protocol=protocol)
+    return dataclasses.replace(scenario, protocol=scenario.protocol.replace(subjects=1, modes=(mode,)))
 
 
 def unit_id(scenario: Scenario, subject: int, seed: int, mode: str, slot: int) -> str:
@@ -67,7 +69,7 @@ def unit_id(scenario: Scenario, subject: int, seed: int, mode: str, slot: int) -
     key = {
         "ergosim": __version__,
         "code": code_fingerprint(),
-        "protocol": dict(vars(unit_scenario(scenario, mode).protocol)),
+        "protocol": flat_values(unit_scenario(scenario, mode).protocol),
         "task": scenario.task_doc,
         "workcell": scenario.cell_doc,
         "overrides": dict(scenario.cell_overrides),
@@ -95,9 +97,9 @@ def run_unit(scenario: Scenario, unit: Unit, actions: Sequence[str],
     """Simulate ``unit`` of the cell ``scenario``; the unit's document (JSON-ready), failed or not.
     ``extensions``: the modules that registered modes, indices or kinds in the driver
     (:func:`ergosim.plugins.extension_modules`), imported first in a worker process."""
+    from ergosim.experiment.runner import run_subject  # noqa: PLC0415
+    from ergosim.experiment.scenario_check import check_reachability  # noqa: PLC0415
     from ergosim.scenes import build_cell  # noqa: PLC0415 - heavy imports stay in the worker
-    from ergosim.twin.runner import run_subject  # noqa: PLC0415
-    from ergosim.twin.scenario_check import check_reachability  # noqa: PLC0415
 
     start = time.perf_counter()
     doc = failed_document(unit, "")
@@ -112,7 +114,8 @@ def run_unit(scenario: Scenario, unit: Unit, actions: Sequence[str],
         result = run_subject(sc, unit.subject, unit.seed, (unit.mode,), slots=(unit.slot,))
         run = RunRecord.of(result.runs[unit.mode])
         doc["metrics"] = {k: _plain(v) for k, v in unit_metrics(run, result.rula_g, actions).items()}
-        doc["allocations"] = [[_plain(getattr(a, f)) for f in ALLOCATION_FIELDS] for a in run.allocations]
+        for o in UNIT_OUTPUTS:  # the rows of each output a unit keeps (allocations.csv's attempts, ...)
+            doc[o.name] = [[_plain(v) for v in row] for row in o.unit_table.rows(run)]
         doc["status"] = "abandoned" if any(o.outcome == "abandoned" for o in run.outcomes) else "complete"
         if doc["status"] == "abandoned":
             doc["error"] = "; ".join(sorted({o.reason for o in run.outcomes if o.outcome == "abandoned"}))
@@ -132,7 +135,7 @@ def run_unit(scenario: Scenario, unit: Unit, actions: Sequence[str],
 def failed_document(unit: Unit, error: str) -> dict[str, Any]:
     """The document of ``unit`` failed with ``error`` (also the start of every unit's document)."""
     return {"format": UNIT_FORMAT, **dataclasses.asdict(unit), "status": "failed", "error": error,
-            "metrics": {}, "allocations": [], "wall_s": 0.0, "host": ""}
+            "metrics": {}, **{o.name: [] for o in UNIT_OUTPUTS}, "wall_s": 0.0, "host": ""}
 
 
 def _plain(value: Any) -> Any:

@@ -19,17 +19,35 @@ from ergosim.planner import AndOrGraph
 from ergosim.planner.tie_break import PAPER_TIE_RULE, next_step
 from ergosim.twin.modes import Mode
 
-__all__ = ["Decision", "Allocator"]
+__all__ = ["Basis", "Decision", "Allocator"]
+
+
+@dataclasses.dataclass(frozen=True)
+class Basis:
+    """What a decision's reason is judged by, the same for every decision of an allocator: the ``mode``, its
+    risk index by name (None: costs from the task file), the index's thresholds ``v_th`` (a scalar or (p,);
+    None without an index), its display ``scale`` (:attr:`~ergosim.ergonomics.risk_index.RiskIndex.scale`),
+    the ``human`` agent and the ``robots``. :func:`ergosim.viz.reason.reason_text` words it."""
+
+    mode: str
+    index: str | None
+    v_th: float | tuple[float, ...] | None
+    scale: float
+    human: str
+    robots: tuple[str, ...]
 
 
 @dataclasses.dataclass(frozen=True)
 class Decision:
-    """What the allocator saw and chose at one decision point (sim time [s]).
+    """What the allocator saw and chose at one decision point (sim time [s]), and why, as data.
 
     ``v_now`` (5,) KWear; ``v_hat``: action -> predicted risk (p,) of the index in use; ``costs``: the
-    (action, agent) costs the planner got; ``had_choice``: more than one agent could take ``action``.
-    Parallel execution adds ``through``, the cost of the cheapest plan through the chosen hyper-arc, and
-    ``early``: the agent started a handover before the operation's other children exist.
+    (action, agent) costs the planner got; ``had_choice``: more than one agent could take ``action``;
+    ``basis``: what the choice is judged by. Parallel execution adds ``through``, the cost of the cheapest
+    plan through the chosen hyper-arc, ``excess``, how much that exceeds the optimal plan (0: the agent
+    follows it), and ``early`` with ``part``: the agent fetches ``part`` for a handover before the
+    operation's other children exist. The sentence the recording and the video show is
+    :func:`ergosim.viz.reason.reason_text`.
     """
 
     time: float
@@ -41,9 +59,11 @@ class Decision:
     agent: str
     operation: str
     had_choice: bool
-    reason: str
+    basis: Basis
     through: float = float("nan")
+    excess: float = 0.0
     early: bool = False
+    part: str = ""
 
     def cost_of(self, agent: str) -> float:
         return float(self.costs.get((self.action, agent), np.nan))
@@ -80,6 +100,8 @@ class Allocator:
         """(action, agent) -> expected duration [s] (ergosim.twin.durations)."""
         self.tie = tie
         """Which ready step of an optimal plan goes first (ergosim.planner.tie_break)."""
+        self.basis = Basis(mode.name, mode.risk_index, None if cost is None else cost.v_th,
+                           1.0 if index is None else index.scale, self.human, self.robots)
 
     def action_of(self, operation: str) -> str:
         return self._action_of[operation]
@@ -119,6 +141,5 @@ class Allocator:
         return Decision(
             time=time, repetition=repetition, v_now=np.array(v_now), v_hat=v_hat, costs=costs,
             action=step.action, agent=step.agent, operation=step.operation, had_choice=len(agents) > 1,
-            reason=self.mode.reason(step.action, step.agent, v_hat, costs, self.index, self.cost, self.human,
-                                    self.robots),
+            basis=self.basis,
         )

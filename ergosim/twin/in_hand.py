@@ -15,6 +15,7 @@ import math
 import mujoco
 import numpy as np
 
+from ergosim import quat
 from ergosim.worker.minimum_jerk import min_jerk
 
 __all__ = ["InHandTurn", "relative_pose", "slerp"]
@@ -23,33 +24,22 @@ __all__ = ["InHandTurn", "relative_pose", "slerp"]
 def relative_pose(p1: np.ndarray, q1: np.ndarray, p2: np.ndarray,
                   q2: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Pose of frame 2 in frame 1 (positions (3,) [m], quaternions (4,) wxyz)."""
-    r1 = np.empty(9)
-    mujoco.mju_quat2Mat(r1, q1)
-    conj = q1 * np.array([1.0, -1.0, -1.0, -1.0])
     q = np.empty(4)
-    mujoco.mju_mulQuat(q, conj, q2)
-    return r1.reshape(3, 3).T @ (p2 - p1), q
-
-
-def _quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Hamilton products of (..., 4) wxyz quaternions."""
-    aw, ax, ay, az = np.moveaxis(a, -1, 0)
-    bw, bx, by, bz = np.moveaxis(b, -1, 0)
-    return np.stack([aw * bw - ax * bx - ay * by - az * bz, aw * bx + ax * bw + ay * bz - az * by,
-                     aw * by - ax * bz + ay * bw + az * bx, aw * bz + ax * by - ay * bx + az * bw], axis=-1)
+    mujoco.mju_mulQuat(q, quat.conj(q1), q2)
+    return quat.to_mat(q1).T @ (p2 - p1), q
 
 
 def slerp(qa: np.ndarray, qb: np.ndarray, s: np.ndarray) -> np.ndarray:
     """(n, 4) unit quaternions from ``qa`` (s = 0) to ``qb`` (s = 1) along the shorter arc, for (n,) ``s``."""
     if np.dot(qa, qb) < 0.0:
         qb = -qb
-    dq = _quat_mul(qa * np.array([1.0, -1.0, -1.0, -1.0]), qb)
+    dq = quat.mul(quat.conj(qa), qb)
     dq /= np.linalg.norm(dq)
     half = math.atan2(float(np.linalg.norm(dq[1:])), float(dq[0]))  # half the relative rotation angle
     axis = dq[1:] / math.sin(half) if half > 1e-12 else np.zeros(3)
     h = np.asarray(s, dtype=float)[:, None] * half
     step = np.concatenate([np.cos(h), np.sin(h) * axis], axis=1)
-    return _quat_mul(qa, step)
+    return quat.mul(qa, step)
 
 
 class InHandTurn:

@@ -20,7 +20,7 @@ from ergosim.posture import KWEAR_JOINTS, STANCE
 from ergosim.twin.records import TICK_COLUMNS, TickLog
 from ergosim.twin.worker_track import WorkerTrack
 
-__all__ = ["Plant"]
+__all__ = ["Plant", "PlantHook", "PLANT_HOOKS"]
 
 _M = len(KWEAR_JOINTS)
 # When nothing is queued the worker holds the rest posture, measured in chunks of this many seconds (one
@@ -33,13 +33,41 @@ _KWEAR = slice(TICK_COLUMNS.index(f"kwear_{KWEAR_JOINTS[0]}"),
 _STANCE = slice(TICK_COLUMNS.index(STANCE[0]), TICK_COLUMNS.index(STANCE[-1]) + 1)
 
 
+PLANT_HOOKS = ("on_grasp", "on_release", "before_physics", "after_step")
+"""What the plant calls on each of its hooks during a control tick, in this order (the way dm_control's
+composer ``Task`` names ``before_step`` and ``after_step``)."""
+
+
+class PlantHook:
+    """Something that acts during the plant's control ticks; override any of :data:`PLANT_HOOKS`.
+
+    - ``on_grasp(plant)``: the worker's hand closes on this tick (the segment's grasp frame);
+    - ``on_release(plant)``: the worker's hand opens on this tick;
+    - ``before_physics(plant, frame)``: the human is posed at the worker segment's ``frame``; physics next;
+    - ``after_step(plant)``: physics stepped and, when due, the ergonomics tick logged.
+    """
+
+    def on_grasp(self, plant: Plant) -> None:
+        pass
+
+    def on_release(self, plant: Plant) -> None:
+        pass
+
+    def before_physics(self, plant: Plant, frame: int) -> None:
+        pass
+
+    def after_step(self, plant: Plant) -> None:
+        pass
+
+
 class Plant:
     """Time keeping, physics and per-tick ergonomics for one workcell and one worker.
 
     ``mocap_rate`` [Hz] is the control tick; physics takes ``n_sub`` MuJoCo steps per control tick with the
     timestep adjusted so the two clocks agree exactly; the ergonomics tick runs every ``tick_every`` control
     ticks. ``robot`` (a :class:`~ergosim.twin.robot_track.RobotTrack` or None) steps the physics itself while
-    one of its skills is active.
+    one of its skills is active. ``hooks`` (:class:`PlantHook`) act at the named points of every tick
+    (:data:`PLANT_HOOKS`): the worker's hand on a part, speed and separation monitoring.
     """
 
     def __init__(self, cell, track: WorkerTrack, kwear: KWearIndex, *, mocap_rate: float,
@@ -61,12 +89,8 @@ class Plant:
         self.repetition = 0
         self.log = TickLog()
         self.robot = None
-        self.on_grasp = None
-        self.on_release = None
-        self.frame_hook = None
-        self.monitor = None
-        """Called with the plant after every control tick when set (speed and separation monitoring,
-        :class:`~ergosim.twin.ssm_monitor.SafetyMonitor`)."""
+        """The acting robot's track (or a group of tracks): it steps the physics while a skill is active."""
+        self.hooks: list[PlantHook] = []
         self._zero_g = np.zeros(_M)
         self._posed = None  # the segment whose pose the scene's human shows
         self._row = np.empty(len(TICK_COLUMNS))
@@ -98,12 +122,16 @@ class Plant:
         if seg is not self._posed or not seg.static:
             self.human.pose(d, seg.qpos[k])
             self._posed = seg
-        if k == seg.grasp_frame and track.index == k + 1 and self.on_grasp is not None:
-            self.on_grasp()
-        if k == seg.release_frame and track.index == k + 1 and self.on_release is not None:
-            self.on_release()
-        if self.frame_hook is not None:
-            self.frame_hook(k)
+        hooks = self.hooks
+        if hooks:
+            if k == seg.grasp_frame and track.index == k + 1:
+                for h in hooks:
+                    h.on_grasp(self)
+            if k == seg.release_frame and track.index == k + 1:
+                for h in hooks:
+                    h.on_release(self)
+            for h in hooks:
+                h.before_physics(self, k)
         robot = self.robot
         if robot is not None and robot.active:
             robot.advance(self.model, d, self.n_sub)
@@ -112,8 +140,8 @@ class Plant:
         self.ticks += 1
         if self.ticks % self.tick_every == 0:
             self._ergonomics_tick(seg, k)
-        if self.monitor is not None:
-            self.monitor(self)
+        for h in hooks:
+            h.after_step(self)
 
     def _ergonomics_tick(self, seg, k: int) -> None:
         """Paper eq. 3-5 over one ergonomics period: wear while acting, recovery while resting. A dropout

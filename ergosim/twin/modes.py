@@ -1,9 +1,10 @@
 """Allocation modes and risk indices, each registered in one place.
 
 A :class:`Mode` brings everything that differs between modes: the risk index whose prediction prices the
-worker's hyper-arcs (or none), the pruning of hyper-arcs before every decision (paper §2.2), whether the
-worker waits for the takt, and the decision's reason text. A risk index is registered by name with a
-factory that builds it, and its cost rule, for one subject's run.
+worker's hyper-arcs (or none), the pruning of hyper-arcs before every decision (paper §2.2) and whether the
+worker waits for the takt. A risk index is registered by name with a factory that builds it, and its cost
+rule, for one subject's run. A decision records why as data (:class:`~ergosim.twin.allocator.Basis`); the
+words are :mod:`ergosim.viz.reason`'s.
 
 Bundled modes:
 
@@ -20,17 +21,19 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Callable, Mapping
+from typing import TYPE_CHECKING
 
-import numpy as np
+from ergosim.ergonomics.calibration import Calibration
+from ergosim.ergonomics.cost import CostParams
+from ergosim.ergonomics.risk_index import KWearIndex, RiskIndex, StaticRulaIndex
+from ergosim.registry import Registry
 
-from ergosim.ergonomics.cost import CostParams, rula_baseline_params
-from ergosim.ergonomics.risk_index import RiskIndex, StaticRulaIndex
-from ergosim.errors import ConfigError
-from ergosim.plugins import note_caller
-from ergosim.viz.reason import allocation_reason
+if TYPE_CHECKING:  # the protocol checks its modes against this module's registry
+    from ergosim.twin.protocol import ScenarioConfig
 
-__all__ = ["Mode", "RiskIndexEntry", "IndexContext", "register_mode", "register_risk_index", "get_mode",
-           "mode_or_default", "mode_names", "risk_index_names", "get_risk_index"]
+__all__ = ["Mode", "RiskIndexEntry", "IndexContext", "MODES", "RISK_INDICES", "register_mode",
+           "register_risk_index", "get_mode", "mode_or_default", "mode_names", "risk_index_names",
+           "get_risk_index"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -38,9 +41,9 @@ class IndexContext:
     """What a risk-index factory may use: the scenario protocol, the subject's online KWear index (fed by
     the plant every ergonomics tick) and its calibration (α, G(a_k), η)."""
 
-    protocol: object
-    kwear: RiskIndex
-    calibration: object
+    protocol: ScenarioConfig
+    kwear: KWearIndex
+    calibration: Calibration
 
 
 Pruning = Callable[[Mapping[str, set[str]], str, tuple[str, ...]], set[tuple[str, str]]]
@@ -49,12 +52,10 @@ Pruning = Callable[[Mapping[str, set[str]], str, tuple[str, ...]], set[tuple[str
 
 @dataclasses.dataclass(frozen=True)
 class RiskIndexEntry:
-    """``build(ctx)`` -> (the index, its cost rule); ``reason(action, agent, v_hat, costs, index, cost, human,
-    robots)`` -> the decision's text."""
+    """``build(ctx)`` -> (the index, its cost rule) for one subject's run."""
 
     name: str
     build: Callable[[IndexContext], tuple[RiskIndex, CostParams]]
-    reason: Callable[..., str]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -82,90 +83,57 @@ class Mode:
                robots: tuple[str, ...]) -> set[tuple[str, str]]:
         return set() if self.prune is None else self.prune(allowed, human, robots)
 
-    def reason(self, action: str, agent: str, v_hat, costs, index, cost, human: str,
-               robots: tuple[str, ...]) -> str:
-        if self.risk_index is None:
-            return f"{action} → {agent}: {self.name} mode"
-        return _INDICES[self.risk_index].reason(action, agent, v_hat, costs, index, cost, human, robots)
 
-
-_MODES: dict[str, Mode] = {}
-_INDICES: dict[str, RiskIndexEntry] = {}
+MODES: Registry[Mode] = Registry("mode", where="mode")
+"""The allocation modes by name (``--mode``, a scenario's ``modes``)."""
+RISK_INDICES: Registry[RiskIndexEntry] = Registry("risk index", plural="risk indices", where="mode")
+"""The risk indices by name (a mode's ``risk_index``)."""
 
 
 def register_mode(mode: Mode) -> None:
     """Make ``mode`` available by name (``--mode``, a scenario's ``modes``), in worker processes too."""
-    note_caller()
-    _MODES[mode.name] = mode
+    MODES.register(mode.name, mode)
 
 
 def register_risk_index(entry: RiskIndexEntry) -> None:
     """Make a risk index available by name to the modes, in worker processes too."""
-    note_caller()
-    _INDICES[entry.name] = entry
+    RISK_INDICES.register(entry.name, entry)
 
 
 def mode_names() -> tuple[str, ...]:
-    return tuple(_MODES)
+    return MODES.names()
 
 
 def risk_index_names() -> tuple[str, ...]:
-    return tuple(_INDICES)
+    return RISK_INDICES.names()
 
 
 def mode_or_default(name: str) -> Mode:
     """The registered mode ``name``, or a plain :class:`Mode` of that name (outputs of a mode no longer
     registered are still summarised)."""
-    return _MODES.get(name) or Mode(name, "unregistered mode")
+    return MODES[name] if name in MODES else Mode(name, "unregistered mode")
 
 
 def get_mode(name: str) -> Mode:
-    try:
-        return _MODES[name]
-    except KeyError:
-        raise ConfigError(f"unknown mode {name!r}; modes: {', '.join(_MODES)}", where="mode") from None
+    return MODES.get(name)
 
 
 def get_risk_index(name: str) -> RiskIndexEntry:
-    try:
-        return _INDICES[name]
-    except KeyError:
-        raise ConfigError(f"unknown risk index {name!r}; indices: {', '.join(_INDICES)}",
-                          where="mode") from None
+    return RISK_INDICES.get(name)
 
 
 # -- the bundled risk indices ------------------------------------------------------------------------------
 def _kwear(ctx: IndexContext) -> tuple[RiskIndex, CostParams]:
-    cfg = ctx.protocol
-    return ctx.kwear, CostParams(gamma=cfg.gamma, v_th=cfg.v_th, robot_cost=cfg.robot_cost,
-                                 v_max=ctx.kwear.params.v_max)
-
-
-def _kwear_reason(action, agent, v_hat, costs, index, cost, human, robots) -> str:
-    vh = np.asarray(v_hat[action])
-    return allocation_reason((action, agent), v_hat=v_hat, costs=costs,
-                             v_th=np.broadcast_to(np.asarray(cost.v_th, dtype=float), vh.shape))
+    return ctx.kwear, ctx.protocol.cost.params(ctx.kwear.params.v_max)
 
 
 def _rula(ctx: IndexContext) -> tuple[RiskIndex, CostParams]:
-    cfg = ctx.protocol
-    return (StaticRulaIndex(ctx.calibration.rula_scores, g_max=cfg.rula_g_max),
-            rula_baseline_params(cfg.robot_cost, cfg.gamma, g_th=cfg.rula_threshold, g_max=cfg.rula_g_max))
+    cost = ctx.protocol.cost
+    return StaticRulaIndex(ctx.calibration.rula_scores, g_max=cost.rula_g_max), cost.rula_params()
 
 
-def _rula_reason(action, agent, v_hat, costs, index, cost, human, robots) -> str:
-    hc = costs.get((action, human))
-    rc = min((costs[(action, r)] for r in robots if (action, r) in costs), default=float("nan"))
-    th = float(np.max(cost.v_th))
-    vh = np.asarray(v_hat[action])
-    rel = "≥" if vh[int(np.argmax(vh))] >= th else "<"
-    g_max = index.g_max
-    return (f"{action} → {agent}: RULA G={vh[0] * g_max:g} {rel} G_th {th * g_max:g}"
-            f" (human cost {hc:.2f}, robot cost {rc:.2f})")
-
-
-register_risk_index(RiskIndexEntry("kwear", _kwear, _kwear_reason))
-register_risk_index(RiskIndexEntry("rula-static", _rula, _rula_reason))
+register_risk_index(RiskIndexEntry("kwear", _kwear))
+register_risk_index(RiskIndexEntry("rula-static", _rula))
 
 
 # -- the bundled modes ---------------------------------------------------------------------------------------

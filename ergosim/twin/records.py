@@ -1,7 +1,8 @@
 """What one simulated subject produces: allocation decisions and per-tick ergonomics.
 
-These are plain data, filled by the loop (:mod:`ergosim.twin.loop`) and consumed by the report
-(:mod:`ergosim.twin.report`) and the recorder; nothing here runs the simulation.
+These are plain data, filled by the loop (:mod:`ergosim.twin.loop`) and the session, and read by what is
+made of a run (:mod:`ergosim.experiment`: summaries, files, recordings, videos); nothing here runs the
+simulation.
 """
 
 from __future__ import annotations

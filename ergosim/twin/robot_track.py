@@ -14,8 +14,8 @@ segments (the paper's conservative 0.05 m/s, §7.2) and ``transit_speed`` the fr
 from __future__ import annotations
 
 import mujoco
-import numpy as np
 
+from ergosim.quat import to_mat
 from ergosim.robot.kinematics import PandaKinematics
 from ergosim.robot.skills import Handover, PickPlace, SkillParams
 from ergosim.robot.status import SkillResult
@@ -87,11 +87,9 @@ class RobotTrack:
         pos, quat = cell.site_pose(geom.target)
         approach = None
         if geom.seats:
-            rot = np.empty(9)
-            mujoco.mju_quat2Mat(rot, quat)
             # the part slides in along its slot's axis: the seat site's axis that the part's insert axis takes
             axis = "xyz".index(cell.config.part(geom.part).insert_axis)
-            approach = rot.reshape(3, 3)[:, axis]
+            approach = to_mat(quat)[:, axis]
         return PickPlace(cell, geom.part, pos, quat, approach=approach, seat=geom.seats,
                          hold=geom.turn_time, receive=geom.received, kin=self.kin, params=self.params,
                          robot=self.name)

@@ -7,20 +7,26 @@ the ergonomics, the worker track supplies the worker's frames, the robot track d
 from __future__ import annotations
 
 import dataclasses
+import logging
 
 import mujoco
 import numpy as np
 
+from ergosim import quat
 from ergosim.errors import InfeasiblePlanError
 from ergosim.scenes.build import weld_name
 from ergosim.twin.allocator import Allocator, Decision
 from ergosim.twin.in_hand import InHandTurn, relative_pose
-from ergosim.twin.loop import Plant
+from ergosim.twin.loop import Plant, PlantHook
 from ergosim.twin.modes import get_mode
+from ergosim.twin.protocol import ScenarioConfig
 from ergosim.twin.records import Allocation, Failure, RepetitionOutcome, SubjectRun
+from ergosim.twin.ssm_monitor import SafetyMonitor
 from ergosim.worker.motion import Worker
 
 __all__ = ["Session", "Outcome"]
+
+log = logging.getLogger(__name__)
 
 # Time allowed to any single action before it counts as failed [s of simulated time]; the slowest robot
 # action at 0.05 m/s takes about 30 s, the slowest human action about 8 s.
@@ -48,8 +54,9 @@ class Session:
 
     execution = "sequential"
 
-    def __init__(self, *, cfg, mode: str, subject_index: int, worker: Worker, plant: Plant, robot,
-                 allocator: Allocator, rng: np.random.Generator, negotiator=None) -> None:
+    def __init__(self, *, cfg: ScenarioConfig, mode: str, subject_index: int, worker: Worker, plant: Plant,
+                 robot, allocator: Allocator, rng: np.random.Generator, negotiator=None,
+                 monitor: SafetyMonitor | None = None) -> None:
         self.cfg = cfg
         self.mode = mode
         self.subject_index = subject_index
@@ -68,6 +75,8 @@ class Session:
         self.decisions: list[Decision] = []
         self.negotiator = negotiator
         """A :class:`~ergosim.twin.negotiation.Negotiator` when the worker may refuse, else None."""
+        self.monitor = monitor
+        """The plant's speed and separation monitor (one of its hooks), or None."""
 
     # -- completion, detected in the scene -----------------------------------------------------------------
     def completed(self, geom) -> bool:
@@ -92,18 +101,16 @@ class Session:
         tgt_p, tgt_q = cell.site_pose(geom.target)
         if body != geom.part:  # the whole assembly, held by one of its profiles: keep the profile's offset
             rel_p, rel_q = relative_pose(*cell.body_pose(geom.part), *cell.body_pose(body))
-            r = np.empty(9)
-            mujoco.mju_quat2Mat(r, tgt_q)
             q = np.empty(4)
             mujoco.mju_mulQuat(q, tgt_q, rel_q)
-            tgt_p, tgt_q = tgt_p + r.reshape(3, 3) @ rel_p, q
+            tgt_p, tgt_q = tgt_p + quat.to_mat(tgt_q) @ rel_p, q
         pos1, quat1 = relative_pose(hand_p, hand_q, tgt_p, tgt_q)
         eq = cell.model.equality(weld_name(self.hand, body)).id
         return InHandTurn(cell.model, eq, pos1, quat1, start, end)
 
-    def _worker_begin(self, geom, handover: bool = False) -> Outcome | tuple[object, np.ndarray]:
-        """Plan the worker's motion for ``geom`` and start it (the grasp and release hooks set): its motion
-        and the collision geoms it carries, or a failed Outcome when the hand cannot reach the part."""
+    def _worker_begin(self, geom, handover: bool = False) -> Outcome | tuple[object, _Carry]:
+        """Plan the worker's motion for ``geom`` and start it, with the hook of the hand on the part: the
+        motion and that hook, or a failed Outcome when the hand cannot reach the part."""
         plant, cell = self.plant, self.cell
         t0 = plant.time
         motion = self.worker.plan(cell, geom, self.rng, action=geom.action, handover=handover)
@@ -113,34 +120,14 @@ class Session:
             return Outcome(False, f"unreachable ({motion.reach_error * 100:.0f} cm short)", t0, plant.time)
         plant.track.start_action(motion)
         grasp_part = cell.grasp_body(geom.part) if geom.moves_assembly else geom.part
+        carry = _Carry(cell, self.hand, geom, grasp_part, self._in_hand_turn(motion, geom, grasp_part))
+        plant.hooks.append(carry)
+        return motion, carry
 
-        # The worker's motion is kinematic and not collision-planned, like the human body itself: what the
-        # worker carries (the grasped part, or the whole assembly) passes through the furniture and the robot
-        # until it is released, then collides again and comes to rest on its own (the scene then decides
-        # completion).
-        carried = cell.collision_geoms(grasp_part)
-
-        def on_grasp() -> None:
-            cell.grasp(self.hand, grasp_part)  # at a handover the robot sees this and lets go
-            cell.pass_through(carried, True)
-
-        def on_release() -> None:
-            cell.release(self.hand, grasp_part)
-            cell.pass_through(carried, False)
-            if geom.seats:
-                cell.seat(geom.part)
-            elif geom.received:
-                cell.receive(geom.part, cell.site_pose(geom.target)[0])
-
-        plant.on_grasp, plant.on_release = on_grasp, on_release
-        plant.frame_hook = self._in_hand_turn(motion, geom, grasp_part)
-        return motion, carried
-
-    def _worker_end(self, carried: np.ndarray) -> None:
-        """The worker's motion is over: no more hooks, and what it carried collides again."""
-        plant = self.plant
-        plant.on_grasp = plant.on_release = plant.frame_hook = None
-        self.cell.pass_through(carried, False)
+    def _worker_end(self, carry: _Carry) -> None:
+        """The worker's motion is over: its hook goes, and what it carried collides again."""
+        self.plant.hooks.remove(carry)
+        self.cell.pass_through(carry.carried, False)
 
     def _worker_action(self, geom, handover: bool = False) -> Outcome:
         plant = self.plant
@@ -148,11 +135,11 @@ class Session:
         begun = self._worker_begin(geom, handover)
         if isinstance(begun, Outcome):
             return begun
-        motion, carried = begun
+        motion, carry = begun
         try:
             finished = plant.run_until(lambda: not plant.track.busy, motion.duration + 1.0)
         finally:
-            self._worker_end(carried)
+            self._worker_end(carry)
         ok = finished and self._settle(geom, 0.5)
         status = "ok" if ok else ("timeout" if not finished else "not_completed")
         return Outcome(ok, status, t0, plant.time)
@@ -240,6 +227,7 @@ class Session:
                        f"at t={out.t_end:.1f} s" + (f": {out.message}" if out.message else ""))
                 self.failures.append(Failure(out.t_end, self.subject_index, self.mode, rep, decision.action,
                                              decision.agent, f"failed:{_reason(out.status)}", msg))
+                log.debug("subject %d, %s: %s", self.subject_index, self.mode, msg)
                 attempts[decision.action] = attempts.get(decision.action, 0) + 1
                 if (decision.agent != alloc.human or out.status.startswith("unreachable")
                         or attempts[decision.action] >= _HUMAN_ATTEMPTS):
@@ -285,9 +273,9 @@ class Session:
         completed = overruns = 0
         # a takt-paced line starts every repetition at its takt slot (paper §7.2: "we fixed the takt time for
         # the two experimental conditions"); H-only workers wait for the takt whatever the line
-        wait = cfg.takt_paced or get_mode(self.mode).waits_for_takt
+        wait = cfg.pacing.takt_paced or get_mode(self.mode).waits_for_takt
         for rep in range(1, repetitions + 1):
-            slot = (rep - 1) * cfg.takt
+            slot = (rep - 1) * cfg.pacing.takt
             if wait and plant.time < slot:
                 plant.track.start_rest(slot - plant.time)
                 plant.run_until(lambda s=slot: plant.time >= s - 1e-9, slot - plant.time + 1.0)
@@ -296,7 +284,7 @@ class Session:
             start = plant.time
             ok = self._repetition(rep)
             completed += int(ok)
-            overruns += int(plant.time - start > cfg.takt)
+            overruns += int(plant.time - start > cfg.pacing.takt)
             if ok:
                 self.outcomes.append(RepetitionOutcome(self.subject_index, self.mode, rep, "completed",
                                                        t_start=start, t_end=plant.time))
@@ -308,22 +296,22 @@ class Session:
                 break
         # The shift lasts the production schedule: a worker who finished early rests until its end, so
         # the load proxies of every mode cover the same window (paper §7.2: takt-timed repetitions).
-        horizon = repetitions * cfg.takt
+        horizon = repetitions * cfg.pacing.takt
         if plant.time < horizon:
             plant.track.start_rest(horizon - plant.time)
             plant.run_until(lambda: plant.time >= horizon - 1e-9, horizon - plant.time + 1.0)
         bodies = None
         if plant.record_bodies:
             bodies = (np.array(plant.body_pos), np.array(plant.body_quat))
-        monitor = getattr(plant, "monitor", None)
-        safety = monitor.record(plant) if monitor is not None else None
+        safety = self.monitor.record(plant) if self.monitor is not None else None
         if safety is not None and safety.end_separation <= 0:
             self.failures.append(Failure(plant.time, self.subject_index, self.mode, repetitions, "", "",
                                          "robot_in_worker", f"the run ended with a robot inside the worker "
                                          f"(separation {safety.end_separation * 100:.1f} cm)"))
         return SubjectRun(
             subject=self.subject_index, mode=self.mode, allocations=self.allocations, ticks=plant.log,
-            repetitions_completed=completed, takt_overruns=overruns, dt_tick=plant.dt_tick, v_th=cfg.v_th,
+            repetitions_completed=completed, takt_overruns=overruns, dt_tick=plant.dt_tick,
+            v_th=cfg.cost.v_th,
             failures=self.failures, decisions=self.decisions, bodies=bodies, horizon=horizon,
             outcomes=self.outcomes, human=self.allocator.human, robots=tuple(self.allocator.robots),
             execution=self.execution,
@@ -354,9 +342,10 @@ class Session:
         """Record an abandoned repetition: a ``pruned`` row per action whose every allowed agent failed."""
         alloc, t = self.allocator, self.plant.time
         msg = f"repetition {rep}: abandoned, {why}"
+        log.debug("subject %d, %s: %s", self.subject_index, self.mode, msg)
         self.failures.append(Failure(t, self.subject_index, self.mode, rep, "", "", "abandoned", msg))
         self.outcomes.append(RepetitionOutcome(self.subject_index, self.mode, rep, "abandoned", why))
-        done_actions = {alloc._action_of[o] for o in done}
+        done_actions = {alloc.action_of(o) for o in done}
         cut = alloc.base_pruned | pruned
         for action in alloc.graph.actions:
             agents = alloc.allowed[action]
@@ -370,6 +359,34 @@ class Session:
                 status="pruned", attempt=attempts, allocatable=len(agents) > 1,
             ))
             order += 1
+
+
+class _Carry(PlantHook):
+    """The worker's hand on a part during one motion. The motion is kinematic and not collision-planned, like
+    the human body itself: what the worker carries (the grasped part, or the whole assembly held by
+    ``body``) passes through the furniture and the robot from the grasp until the release, then collides
+    again and comes to rest on its own (the scene then decides completion). ``turn`` moves the grasp weld
+    so the part ends on its target (:class:`~ergosim.twin.in_hand.InHandTurn`)."""
+
+    def __init__(self, cell, hand: str, geom, body: str, turn: InHandTurn) -> None:
+        self.cell, self.hand, self.geom, self.body, self.turn = cell, hand, geom, body, turn
+        self.carried = cell.collision_geoms(body)
+
+    def on_grasp(self, plant: Plant) -> None:
+        self.cell.grasp(self.hand, self.body)  # at a handover the robot sees this and lets go
+        self.cell.pass_through(self.carried, True)
+
+    def on_release(self, plant: Plant) -> None:
+        cell, geom = self.cell, self.geom
+        cell.release(self.hand, self.body)
+        cell.pass_through(self.carried, False)
+        if geom.seats:
+            cell.seat(geom.part)
+        elif geom.received:
+            cell.receive(geom.part, cell.site_pose(geom.target)[0])
+
+    def before_physics(self, plant: Plant, frame: int) -> None:
+        self.turn(frame)
 
 
 def _reason(status: str) -> str:

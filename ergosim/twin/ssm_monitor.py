@@ -21,6 +21,7 @@ import numpy as np
 from ergosim.robot.skills import Handover
 from ergosim.robot.ssm import SSMParams, speed_scale
 from ergosim.scenes.separation import Capsules, SeparationModel, capsules_of
+from ergosim.twin.loop import PlantHook
 
 __all__ = ["SafetyRecord", "SafetyMonitor"]
 
@@ -58,7 +59,7 @@ class SafetyRecord:
                 "end_separation_m": num(self.end_separation)}
 
 
-class SafetyMonitor:
+class SafetyMonitor(PlantHook):
     """Monitors ``robots`` (name -> :class:`~ergosim.twin.robot_track.RobotTrack`) in ``cell`` every
     ``every`` control ticks of ``dt_control`` [s]; ``scale``: set the robots' speed factors (else measure
     only)."""
@@ -148,7 +149,7 @@ class SafetyMonitor:
             self.overlap_moving += self.dt
         return closest
 
-    def __call__(self, plant) -> None:
+    def after_step(self, plant) -> None:
         if plant.ticks % self.every == 0:
             self.measure(plant)
 

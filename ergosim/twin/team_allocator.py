@@ -60,16 +60,11 @@ class TeamAllocator:
             if step.action in busy:
                 continue
             agents = alloc.allowed[step.action] - {a for (act, a) in cut if act == step.action}
-            reason = alloc.mode.reason(step.action, step.agent, v_hat, costs, alloc.index, alloc.cost,
-                                       alloc.human, alloc.robots)
             extra = step.through - out.cost
-            if extra > 1e-9 * max(1.0, abs(out.cost)):
-                reason += f"; the {step.agent} is idle: best ready operation, plan +{extra:.2f}"
-            if step.early:
-                reason += f"; fetches {step.part} while the rest goes on"
             decisions.append((Decision(
                 time=time, repetition=repetition, v_now=np.array(v_now), v_hat=v_hat, costs=costs,
                 action=step.action, agent=step.agent, operation=step.operation, had_choice=len(agents) > 1,
-                reason=reason, through=step.through if math.isfinite(step.through) else math.nan,
-                early=step.early), step))
+                basis=alloc.basis, through=step.through if math.isfinite(step.through) else math.nan,
+                excess=extra if extra > 1e-9 * max(1.0, abs(out.cost)) else 0.0, early=step.early,
+                part=str(step.part) if step.early else ""), step))
         return decisions

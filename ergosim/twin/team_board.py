@@ -16,7 +16,6 @@ from collections.abc import Mapping
 import numpy as np
 
 from ergosim.planner.call_inputs import configuration
-from ergosim.planner.outside import team_layout
 from ergosim.planner.team import TeamStep
 
 __all__ = ["TeamBoard"]
@@ -62,18 +61,18 @@ class TeamBoard:
         nodes = configuration(graph, self.done)
         free = np.zeros(graph.n_nodes + 1, dtype=bool)
         free[nodes] = True
-        tl = team_layout(graph)
+        tl = graph.op_table
         for op in self.running.values():
-            free[tl.op_children[graph._op_index[op]]] = False
+            free[tl.op_children[graph.op_index[op]]] = False
         for other, (_, held) in self.reserved.items():  # the parts other robots hold out
             if other != action:
-                mask = 1 << graph._part_index[held]
-                free[[n for n in nodes.tolist() if graph._node_masks[n] & mask]] = False
+                mask = graph.part_bit(held)
+                free[[n for n in nodes.tolist() if graph.node_masks[n] & mask]] = False
         free[-1] = True
-        bit = 1 << graph._part_index[part]
+        bit = graph.part_bit(part)
         for op in tl.action_ops.get(action, np.zeros(0, np.int64)).tolist():
-            children = graph._op_children[op]
-            if any(graph._node_masks[c] & bit for c in children) and free[tl.op_children[op]].all():
+            children = graph.op_children[op]
+            if any(graph.node_masks[c] & bit for c in children) and free[tl.op_children[op]].all():
                 name = graph.operations[op].name
                 del self.reserved[action]
                 self.running[job] = name
@@ -95,8 +94,8 @@ class TeamBoard:
 
     def holder_of(self, node: int) -> int | None:
         """The job holding sub-assembly ``node`` (a child of its running operation), or None."""
-        tl = team_layout(self.graph)
+        graph = self.graph
         for job, op in self.running.items():
-            if node in tl.op_children[self.graph._op_index[op]].tolist():
+            if node in graph.children(graph.op_index[op]):
                 return job
         return None

@@ -29,8 +29,8 @@ crc32(mode)]``, so negotiation never changes the draws of the motion, the mocap 
 def refusal_model(cfg, seed: int, subject: int) -> RefusalModel:
     """Subject ``subject``'s refusal curve under protocol ``cfg`` (the same in every mode)."""
     rng = np.random.default_rng(np.random.SeedSequence([seed, subject, NEGOTIATION_STREAM]))
-    return RefusalModel.for_subject(rng, mean=cfg.refusal_tolerance, sd=cfg.refusal_tolerance_sd,
-                                    slope=cfg.refusal_slope)
+    return RefusalModel.for_subject(rng, mean=cfg.team.refusal_tolerance, sd=cfg.team.refusal_tolerance_sd,
+                                    slope=cfg.team.refusal_slope)
 
 
 def make_session(cfg, *, rig, allocator, mode: str, subject: int, seed: int, rng: np.random.Generator,
@@ -38,21 +38,22 @@ def make_session(cfg, *, rig, allocator, mode: str, subject: int, seed: int, rng
     """The session of one subject in one mode: :class:`TeamSession` for ``execution = "parallel"``, else the
     sequential :class:`Session`, with the protocol's time term, negotiation and the workcell's monitoring."""
     plant = rig.plant
-    if cfg.w_time > 0:
-        allocator.w_time = cfg.w_time
+    if cfg.team.w_time > 0:
+        allocator.w_time = cfg.team.w_time
         allocator.durations = expected_durations(rig.cell, rig.robots, allocator.allowed, allocator.human,
                                                  human_seconds or {})
     negotiator = None
-    if cfg.negotiation:
+    if cfg.team.negotiation:
         offers = np.random.default_rng(np.random.SeedSequence([seed, subject, NEGOTIATION_STREAM,
                                                                zlib.crc32(mode.encode())]))
         negotiator = Negotiator(refusal_model(cfg, seed, subject), plant.kwear, offers)
-    safety = rig.cell.config.safety
-    if rig.robots and (cfg.execution == "parallel" or safety.ssm == "on"):
-        plant.monitor = SafetyMonitor(rig.cell, rig.robots, safety, scale=safety.enabled(cfg.execution),
-                                      every=plant.tick_every, dt_control=plant.dt_control)
+    safety, monitor = rig.cell.config.safety, None
+    if rig.robots and (cfg.team.execution == "parallel" or safety.ssm == "on"):
+        monitor = SafetyMonitor(rig.cell, rig.robots, safety, scale=safety.enabled(cfg.team.execution),
+                                every=plant.tick_every, dt_control=plant.dt_control)
+        plant.hooks.append(monitor)
     kwargs = dict(cfg=cfg, mode=mode, subject_index=subject, worker=rig.worker, plant=plant, robot=rig.robots,
-                  allocator=allocator, rng=rng, negotiator=negotiator)
-    if cfg.execution == "parallel":
-        return TeamSession(margin=cfg.team_margin, **kwargs)
+                  allocator=allocator, rng=rng, negotiator=negotiator, monitor=monitor)
+    if cfg.team.execution == "parallel":
+        return TeamSession(margin=cfg.team.team_margin, **kwargs)
     return Session(**kwargs)

@@ -3,7 +3,7 @@
 Typical use (what ``ergosim run ... --video FILE.mp4`` does after the simulation)::
 
     run = run_subject(scenario, 0, seed, ("hrc",), record_mode="hrc").runs["hrc"]   # keeps body poses
-    cell = subject_cell(scenario, make_subjects(1, seed)[0])                        # the cell it ran in
+    cell = subject_cell(scenario, scenario_subject(scenario, 0, seed))              # the cell it ran in
     write_run_video(cell, run, VideoRequest(Path("run.mp4"), reps=(1, 1), speed=4))
 
 Frame rendering (:mod:`~ergosim.video.frames`), what a frame says (:mod:`~ergosim.video.timeline`), the
@@ -11,7 +11,7 @@ overlay drawing (:mod:`~ergosim.video.overlay`) and the encoder (:mod:`~ergosim.
 """
 
 from ergosim.video.encode import Mp4Writer, gif_from_mp4, read_mp4
-from ergosim.video.frames import PoseRenderer, RenderQuality, open_renderer, quat_to_mat
+from ergosim.video.frames import PoseRenderer, RenderQuality, open_renderer
 from ergosim.video.overlay import Overlay
 from ergosim.video.poses import PoseTrack
 from ergosim.video.run_video import (
@@ -43,7 +43,6 @@ __all__ = [
     "open_renderer",
     "parse_reps",
     "parse_size",
-    "quat_to_mat",
     "read_mp4",
     "write_run_video",
     "render_still",

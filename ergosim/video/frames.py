@@ -19,9 +19,18 @@ import mujoco
 import numpy as np
 
 from ergosim.errors import RenderError
+from ergosim.quat import to_mat
 from ergosim.scenes.cellspec import View
 
-__all__ = ["PoseRenderer", "RenderQuality", "quat_to_mat", "open_renderer"]
+__all__ = ["PoseRenderer", "RenderQuality", "open_renderer", "gl_used"]
+
+_GL_CONTEXTS = [0]  # offscreen contexts this process opened
+
+
+def gl_used() -> bool:
+    """True once this process opened an offscreen OpenGL context (a child forked from it would inherit
+    the driver's state, so :mod:`ergosim.video.render_pool` spawns instead)."""
+    return _GL_CONTEXTS[0] > 0
 
 
 @dataclasses.dataclass(frozen=True)
@@ -36,18 +45,9 @@ class RenderQuality:
     reflection: bool = False
 
 
-def quat_to_mat(quat: np.ndarray) -> np.ndarray:
-    """(..., 4) unit quaternions wxyz -> (..., 3, 3) rotation matrices."""
-    w, x, y, z = np.moveaxis(np.asarray(quat, dtype=float), -1, 0)
-    return np.stack([
-        np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], -1),
-        np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], -1),
-        np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], -1),
-    ], -2)
-
-
 def open_renderer(model: mujoco.MjModel, width: int, height: int) -> mujoco.Renderer:
     """MuJoCo's offscreen renderer, or a one-line :class:`RenderError` saying how to get an OpenGL context."""
+    _GL_CONTEXTS[0] += 1
     try:
         return mujoco.Renderer(model, height=height, width=width)
     except Exception as err:  # glfw without a display, no EGL driver, ...: MuJoCo raises several kinds
@@ -86,10 +86,10 @@ class PoseRenderer:
         self._option = mujoco.MjvOption()
         self._geom_body = m.geom_bodyid.copy()
         self._geom_pos = m.geom_pos.copy()
-        self._geom_rot = quat_to_mat(m.geom_quat)
+        self._geom_rot = to_mat(m.geom_quat)
         self._site_body = m.site_bodyid.copy()
         self._site_pos = m.site_pos.copy()
-        self._site_rot = quat_to_mat(m.site_quat)
+        self._site_rot = to_mat(m.site_quat)
         moving = m.light_bodyid != 0  # lights on the world body never move
         self._light = np.flatnonzero(moving)
         self._light_body = m.light_bodyid[moving]
@@ -101,7 +101,7 @@ class PoseRenderer:
         if pos.shape != (m.nbody, 3) or np.shape(quat) != (m.nbody, 4):
             raise ValueError(f"expected body poses of shape ({m.nbody}, 3) and ({m.nbody}, 4), "
                              f"got {pos.shape} and {np.shape(quat)}")
-        rot = quat_to_mat(quat)
+        rot = to_mat(quat)
         d.xpos[:] = pos
         d.xquat[:] = quat
         d.xmat[:] = rot.reshape(-1, 9)

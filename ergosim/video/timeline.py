@@ -2,8 +2,8 @@
 
 Every field comes from the run's own records: the tick log (repetition, KWear V per joint), the attempts
 (:class:`~ergosim.twin.records.Allocation`: which action, which agent, from ``t_start`` to ``t_end``), the
-allocator's decisions with the one-line reason it wrote (:class:`~ergosim.twin.allocator.Decision`), and
-the failures (:class:`~ergosim.twin.records.Failure`).
+allocator's decisions (:class:`~ergosim.twin.allocator.Decision`) in the words of
+:func:`~ergosim.viz.reason.reason_text`, and the failures (:class:`~ergosim.twin.records.Failure`).
 """
 
 from __future__ import annotations
@@ -15,6 +15,7 @@ import numpy as np
 
 from ergosim.errors import ConfigError
 from ergosim.twin.records import SubjectRun
+from ergosim.viz.reason import reason_text
 
 __all__ = ["Event", "FrameInfo", "RunTimeline"]
 
@@ -73,7 +74,7 @@ class RunTimeline:
         self.repetitions = len(run.outcomes) or int(self.rep.max())
         attempts = [a for a in run.allocations if a.status != "pruned"]
         self._attempts = sorted(attempts, key=lambda a: (a.t_start, a.order))
-        events = [Event(d.time, "decision", d.reason, d.agent) for d in run.decisions]
+        events = [Event(d.time, "decision", reason_text(d), d.agent) for d in run.decisions]
         events += [Event(f.time, "failure", f.message, f.agent) for f in run.failures]
         self.events = tuple(sorted(events, key=lambda e: (e.time, e.kind != "failure")))
         self._event_t = np.array([e.time for e in self.events])

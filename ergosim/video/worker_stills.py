@@ -13,6 +13,7 @@ import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 
 from ergosim.human.model import body_qpos
+from ergosim.quat import to_mat
 from ergosim.scenes.render import render_workcell
 from ergosim.scenes.workcell import Workcell
 from ergosim.worker.ergonomics_tick import score_frames
@@ -35,12 +36,6 @@ def action_moments(motion: ActionMotion) -> list[tuple[str, float]]:
             (f"{fit.name} (fitting)", fit.start + 1e-3)]
 
 
-def _quat_mat(quat: np.ndarray) -> np.ndarray:
-    m = np.empty(9)
-    mujoco.mju_quat2Mat(m, np.asarray(quat, dtype=float))
-    return m.reshape(3, 3)
-
-
 def _set_body(cell: Workcell, body: str, pos: np.ndarray, quat: np.ndarray) -> None:
     m, d = cell.model, cell.data
     qa = m.jnt_qposadr[m.body_jntadr[m.body(body).id]]
@@ -51,7 +46,7 @@ def _set_body(cell: Workcell, body: str, pos: np.ndarray, quat: np.ndarray) -> N
 def _moved(pose: tuple[np.ndarray, np.ndarray], frm: tuple[np.ndarray, np.ndarray],
            to: tuple[np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
     """``pose`` carried rigidly with a frame going from ``frm`` to ``to`` (positions, wxyz quaternions)."""
-    r_from, r_to = _quat_mat(frm[1]), _quat_mat(to[1])
+    r_from, r_to = to_mat(frm[1]), to_mat(to[1])
     pos = to[0] + r_to @ (r_from.T @ (pose[0] - frm[0]))
     inv, rel, quat = np.empty(4), np.empty(4), np.empty(4)
     mujoco.mju_negQuat(inv, frm[1])

@@ -12,12 +12,12 @@ Typical use (the twin loop)::
 
 from __future__ import annotations
 
+from ergosim.quat import wxyz_to_xyzw
 from ergosim.viz.blueprint import build_blueprint
 from ergosim.viz.geometry import VISIBLE_GROUPS, SceneBody, Visual, default_body_groups, scene_bodies
 from ergosim.viz.paths import GROUPS, body_entity
-from ergosim.viz.quat import wxyz_to_xyzw
 from ergosim.viz.readback import RecordingReader
-from ergosim.viz.reason import allocation_reason
+from ergosim.viz.reason import REASONS, allocation_reason, reason_text, register_reason
 from ergosim.viz.recorder import TwinRecorder
 from ergosim.viz.sinks import DEFAULT_URL, SPAWN_PORT, SinkPlan, open_recording, plan_sinks
 
@@ -29,6 +29,9 @@ __all__ = [
     "DEFAULT_URL",
     "SPAWN_PORT",
     "allocation_reason",
+    "reason_text",
+    "register_reason",
+    "REASONS",
     "build_blueprint",
     "scene_bodies",
     "default_body_groups",

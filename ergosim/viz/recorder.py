@@ -20,13 +20,13 @@ import rerun as rr
 from ergosim.ergonomics.rula import RULA_PARTS
 from ergosim.errors import RecordingError
 from ergosim.posture import ANGLE_NAMES, KWEAR_JOINTS
+from ergosim.quat import wxyz_to_xyzw
 from ergosim.viz import paths, styles
 from ergosim.viz.blueprint import build_blueprint
 from ergosim.viz.columns import ColumnBuffer
 from ergosim.viz.eye import frame_scene
 from ergosim.viz.geometry import SceneBody, scene_bodies
 from ergosim.viz.paths import join
-from ergosim.viz.quat import wxyz_to_xyzw
 from ergosim.viz.scene import log_scene
 
 __all__ = ["TwinRecorder"]

@@ -13,9 +13,9 @@ import mujoco
 import numpy as np
 import rerun as rr
 
+from ergosim.quat import wxyz_to_xyzw
 from ergosim.viz.geometry import SceneBody, Visual
 from ergosim.viz.paths import join
-from ergosim.viz.quat import wxyz_to_xyzw
 
 __all__ = ["log_scene"]
 

@@ -7,6 +7,7 @@ from ergosim.worker.ergonomics_tick import (
     REPLAY_COLUMNS,
     ReplayTrace,
     replay,
+    replay_ticks,
     score_frames,
     tick_indices,
 )
@@ -53,4 +54,5 @@ __all__ = [
     "score_frames",
     "tick_indices",
     "replay",
+    "replay_ticks",
 ]

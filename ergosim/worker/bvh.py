@@ -23,7 +23,7 @@ from ergosim.worker.bvh_export import bvh_text
 from ergosim.worker.bvh_mapping import map_skeleton, recording_angles
 from ergosim.worker.bvh_parse import BvhData, parse_bvh, parse_bvh_text
 
-__all__ = ["Recording", "load_bvh", "read_bvh_text", "save_bvh"]
+__all__ = ["Recording", "load_bvh", "read_bvh_text", "recording_from_data", "save_bvh"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -39,14 +39,17 @@ class Recording:
     angles: Mapping[str, np.ndarray]
     source: str
     mapping: Mapping[str, str]
+    frames: np.ndarray | None = None
+    """Indices of the recording's frames that ``angles`` holds (a sample, e.g. a replay's ticks), or None
+    for all ``n_frames``."""
 
     @property
     def t(self) -> np.ndarray:
-        """(n_frames,) time of each frame [s] from the first."""
-        return np.arange(self.n_frames) / self.rate_hz
+        """Time of each frame in ``angles`` [s] from the first frame of the recording."""
+        return (np.arange(self.n_frames) if self.frames is None else self.frames) / self.rate_hz
 
     def array(self, names: tuple[str, ...] = ANGLE_NAMES) -> np.ndarray:
-        """(n_frames, len(names)) [deg]; ``HUMAN_JOINTS`` gives the human model's order (needs a left arm)."""
+        """(frames, len(names)) [deg]; ``HUMAN_JOINTS`` gives the human model's order (needs a left arm)."""
         missing = [n for n in names if n not in self.angles]
         if missing:
             raise RecordingError(f"the recording has no {', '.join(missing)} (no such segment was mapped)",
@@ -54,13 +57,22 @@ class Recording:
         return np.stack([self.angles[n] for n in names], axis=-1)
 
 
-def _recording(data: BvhData, name_map: Mapping[str, str] | None, trunk_reference: str) -> Recording:
+def recording_from_data(data: BvhData, name_map: Mapping[str, str] | None = None,
+                        trunk_reference: str = "vertical", frames: np.ndarray | None = None) -> Recording:
+    """:func:`load_bvh` of an already parsed file (:func:`~ergosim.worker.bvh_parse.parse_bvh`).
+
+    ``frames``: increasing indices of the only frames to map (e.g. :func:`~ergosim.worker.tick_indices` of a
+    replay); each gets the angles the whole recording's mapping gives it, bit for bit.
+    """
     smap = map_skeleton(data, name_map)
-    angles = recording_angles(data, smap, trunk_reference)
+    angles = recording_angles(data, smap, trunk_reference, frames)
     for a in angles.values():
         a.setflags(write=False)
+    if frames is not None:
+        frames = np.array(frames, dtype=np.int64)
+        frames.setflags(write=False)
     return Recording(data.rate_hz, data.n_frames, MappingProxyType(angles), data.source,
-                     MappingProxyType(dict(smap.names)))
+                     MappingProxyType(dict(smap.names)), frames)
 
 
 def load_bvh(path: str | os.PathLike[str], name_map: Mapping[str, str] | None = None,
@@ -72,13 +84,13 @@ def load_bvh(path: str | os.PathLike[str], name_map: Mapping[str, str] | None = 
     the upright, the pelvis's heading removed) or "pelvis" (relative to the pelvis segment).
     Raises :class:`RecordingError` naming the file (and line) for any problem.
     """
-    return _recording(parse_bvh(path), name_map, trunk_reference)
+    return recording_from_data(parse_bvh(path), name_map, trunk_reference)
 
 
 def read_bvh_text(text: str, source: str = "<string>", name_map: Mapping[str, str] | None = None,
                   trunk_reference: str = "vertical") -> Recording:
     """:func:`load_bvh` on BVH text held in memory."""
-    return _recording(parse_bvh_text(text, source), name_map, trunk_reference)
+    return recording_from_data(parse_bvh_text(text, source), name_map, trunk_reference)
 
 
 def save_bvh(path: str | os.PathLike[str], angles: Mapping[str, np.ndarray | float], rate_hz: float,

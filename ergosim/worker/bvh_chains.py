@@ -24,8 +24,9 @@ import numpy as np
 
 from ergosim.human.joints import joint_spec
 from ergosim.worker.bvh_euler import SINGULAR_COS, alternate_euler, euler_to_matrix, matrix_to_euler
+from ergosim.worker.bvh_products import const_times, times_const
 
-__all__ = ["Chain", "CHAINS", "MIRROR", "compose", "decompose", "mirror"]
+__all__ = ["Chain", "CHAINS", "MIRROR", "HeldFrame", "compose", "decompose", "mirror"]
 
 MIRROR = np.diag([1.0, -1.0, 1.0])
 
@@ -53,9 +54,14 @@ CHAINS: dict[str, Chain] = {
 """Trunk and neck are midline; the arm chains are for the right arm (mirror the left arm's rotations)."""
 
 
+class HeldFrame(Exception):
+    """A frame in gimbal lock among frames that are not consecutive: it holds the angle of the last regular
+    frame before it, which only the consecutive frames have (see :func:`decompose`)."""
+
+
 def mirror(r: np.ndarray) -> np.ndarray:
-    """Reflect (..., 3, 3) rotations through the sagittal plane (left arm <-> right arm)."""
-    return MIRROR @ r @ MIRROR
+    """Reflect (..., 3, 3) rotations through the sagittal plane (left arm <-> right arm): M r M."""
+    return times_const(const_times(MIRROR, r), MIRROR)
 
 
 def compose(chain: Chain, angles: Mapping[str, np.ndarray | float], prefix: str = "") -> np.ndarray:
@@ -75,14 +81,29 @@ def _ranges(chain: Chain) -> np.ndarray:
     return np.array([joint_spec(n).range_deg if n else (0.0, 0.0) for n in chain.names])
 
 
+def _violation(deg: np.ndarray, ranges: np.ndarray) -> np.ndarray:
+    return np.maximum(ranges[:, 0] - deg, 0.0) + np.maximum(deg - ranges[:, 1], 0.0)
+
+
 def _wrap(deg: np.ndarray, ranges: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Each angle's representative (mod 360) closest to its range, and the summed range violation."""
-    base = np.mod(deg + 180.0, 360.0) - 180.0
-    cand = np.stack([base, base - 360.0, base + 360.0])  # ties keep the (-180, 180] representative
-    viol = np.maximum(ranges[:, 0] - cand, 0.0) + np.maximum(cand - ranges[:, 1], 0.0)
-    pick = np.argmin(viol, axis=0)
-    best = np.take_along_axis(cand, pick[None], 0)[0]
-    return best, np.take_along_axis(viol, pick[None], 0)[0].sum(axis=-1)
+    """Each angle's representative (mod 360) closest to its range, and the summed range violation.
+
+    deg: (n, 3) [deg]; ranges: (3, 2) [deg]. Returns (n, 3) angles and (n,) violations [deg].
+    """
+    best = np.mod(deg + 180.0, 360.0) - 180.0
+    viol = _violation(best, ranges)
+    # Only an angle outside its range can be bettered by base -/+ 360; ties keep the first candidate,
+    # the (-180, 180] representative.
+    rows, cols = np.nonzero(viol > 0.0)
+    if rows.size:
+        base, lo, hi = best[rows, cols], ranges[cols, 0], ranges[cols, 1]
+        pick, low = base, viol[rows, cols]
+        for cand in (base - 360.0, base + 360.0):
+            v = np.maximum(lo - cand, 0.0) + np.maximum(cand - hi, 0.0)
+            better = v < low
+            pick, low = np.where(better, cand, pick), np.where(better, v, low)
+        best[rows, cols], viol[rows, cols] = pick, low
+    return best, (viol[..., 0] + viol[..., 1]) + viol[..., 2]
 
 
 def _forward_fill(values: np.ndarray, valid: np.ndarray, default: float = 0.0) -> np.ndarray:
@@ -91,17 +112,29 @@ def _forward_fill(values: np.ndarray, valid: np.ndarray, default: float = 0.0) -
     return np.where(idx >= 0, values[np.maximum(idx, 0)], default)
 
 
-def decompose(chain: Chain, r: np.ndarray, prefix: str = "") -> dict[str, np.ndarray]:
-    """Canonical angles [deg], name -> (n,), of the (n, 3, 3) relative rotations ``r`` of ``chain``."""
+def decompose(chain: Chain, r: np.ndarray, prefix: str = "",
+              consecutive: bool = True) -> dict[str, np.ndarray]:
+    """Canonical angles [deg], name -> (n,), of the (n, 3, 3) relative rotations ``r`` of ``chain``.
+
+    ``consecutive``: False if the n frames are a sample of a recording; then a frame in gimbal lock raises
+    :class:`HeldFrame` instead of taking the angle of the sample's previous frame.
+    """
     r = mirror(r) if prefix else np.asarray(r, dtype=float)
     signs = np.asarray(chain.signs, dtype=float)
     ranges = _ranges(chain)
     euler = matrix_to_euler(r, chain.order)
-    one, viol1 = _wrap(np.rad2deg(euler * signs), ranges)
-    two, viol2 = _wrap(np.rad2deg(alternate_euler(euler) * signs), ranges)
-    best = np.where((viol2 < viol1 - 1e-9)[:, None], two, one)
+    best, viol1 = _wrap(np.rad2deg(euler * signs), ranges)
+    # The other solution is taken where it violates the ranges by 1e-9 deg less, so only where this one
+    # violates them by more than that.
+    frames = np.flatnonzero(viol1 > 1e-9)
+    if frames.size:
+        two, viol2 = _wrap(np.rad2deg(alternate_euler(euler[frames]) * signs), ranges)
+        take = viol2 < viol1[frames] - 1e-9
+        best[frames[take]] = two[take]
     lock = np.abs(np.cos(euler[:, 1])) < SINGULAR_COS
     if lock.any():
+        if not consecutive:
+            raise HeldFrame(f"{chain.child} in gimbal lock")
         # Gimbal lock: hold the first angle of the last regular frame (continuity in a recording); the
         # other solution would only move it by 180 deg, so it is not considered.
         hint = np.deg2rad(_forward_fill(best[:, 0], ~lock)) * signs[0]

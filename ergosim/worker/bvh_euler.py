@@ -30,12 +30,60 @@ def axis_rotation(axis: int, angle: np.ndarray) -> np.ndarray:
     return r
 
 
+def _support(axis: int) -> set[tuple[int, int]]:
+    """Entries of a rotation about ``axis`` that are not structural zeros."""
+    return {(axis, axis)} | {(i, j) for i in range(3) for j in range(3) if axis not in (i, j)}
+
+
+_PAIR_TERMS = {
+    (a, b): tuple(next((k for k in range(3) if (i, k) in _support(a) and (k, j) in _support(b)), None)
+                  for i in range(3) for j in range(3))
+    for a in range(3) for b in range(3) if a != b
+}
+"""Per pair of distinct axes (a, b): for each entry (i, j) of R_a @ R_b, the one k whose term
+R_a[i, k] R_b[k, j] is not a structural zero (None: the entry is a structural zero)."""
+
+
+def _pair_product(first: np.ndarray, b: int, angle: np.ndarray, a: int) -> np.ndarray:
+    """``first @ axis_rotation(b, angle)`` for ``first`` a rotation about axis ``a != b``, elementwise.
+
+    np.matmul hands these 3x3 products to BLAS, which sums each entry's three terms with fused multiply-adds
+    from +0. Here every entry has one term that is not a structural zero, so that sum is the one product,
+    rounded once, plus +0: the same bits, without a BLAS call per frame.
+    """
+    second = axis_rotation(b, angle)
+    out = np.empty(np.broadcast_shapes(first.shape, second.shape))
+    for e, k in enumerate(_PAIR_TERMS[(a, b)]):
+        i, j = divmod(e, 3)
+        if k is None:
+            out[..., i, j] = 0.0
+        else:
+            np.add(first[..., i, k] * second[..., k, j], 0.0, out=out[..., i, j])
+    return out
+
+
 def euler_to_matrix(angles: np.ndarray, order: str) -> np.ndarray:
-    """(..., 3, 3) from (..., len(order)) angles [rad]; ``order`` of up to 3 letters (empty -> identity)."""
+    """(..., 3, 3) from (..., len(order)) angles [rad]; ``order`` of up to 3 letters (empty -> identity).
+
+    Bit for bit the product ``I @ R_1 @ R_2 @ R_3`` of np.matmul (BLAS, fused multiply-adds from +0), with
+    the products that have one non-zero term per entry done elementwise: ``I @ R_1`` is R_1 with its
+    negative zeros made positive, R_1 @ R_2 about distinct axes has one term per entry, and a rotation by
+    an angle that is zero in every frame is the identity up to the sign of zeros.
+    """
     angles = np.asarray(angles, dtype=float)
-    r = np.broadcast_to(np.eye(3), angles.shape[:-1] + (3, 3)).copy()
-    for k, ax in enumerate(order.upper()):
-        r = r @ axis_rotation(_AXIS[ax], angles[..., k])
+    axes = [_AXIS[ax] for ax in order.upper()]
+    if not axes:
+        return np.broadcast_to(np.eye(3), angles.shape[:-1] + (3, 3)).copy()
+    r = axis_rotation(axes[0], angles[..., 0])
+    r += 0.0
+    for k in range(1, len(axes)):
+        angle = angles[..., k]
+        if not np.any(angle):
+            r += 0.0
+        elif k == 1 and axes[1] != axes[0]:
+            r = _pair_product(r, axes[1], angle, axes[0])
+        else:
+            r = r @ axis_rotation(axes[k], angle)
     return r
 
 

@@ -13,14 +13,19 @@ _AXIS = {"x": 0, "y": 1, "z": 2}
 
 
 def global_rotations(data: BvhData, which: list[int] | None = None,
-                     frames: slice = slice(None)) -> dict[int, np.ndarray]:
-    """World rotation (n, 3, 3) of each joint in ``which`` (and of its ancestors), in the file's axes."""
+                     frames: slice | np.ndarray = slice(None)) -> dict[int, np.ndarray]:
+    """World rotation (n, 3, 3) of each joint in ``which`` (and of its ancestors), in the file's axes, for the
+    ``frames`` (a slice or indices) of ``data``."""
     motion = data.motion[frames]
     out: dict[int, np.ndarray] = {}
 
     def get(i: int) -> np.ndarray:
         if i not in out:
             j = data.joints[i]
+            if j.parent >= 0 and not j.rotation_order:
+                # parent @ I under BLAS: the parent's rotation with its negative zeros made positive
+                out[i] = get(j.parent) + 0.0
+                return out[i]
             local = euler_to_matrix(np.deg2rad(motion[:, j.rotation_columns]), j.rotation_order)
             local = np.broadcast_to(local, (motion.shape[0], 3, 3))
             out[i] = local.copy() if j.parent < 0 else get(j.parent) @ local

@@ -28,9 +28,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ergosim.errors import RecordingError
-from ergosim.worker.bvh_chains import CHAINS, compose, decompose
+from ergosim.worker.bvh_chains import CHAINS, HeldFrame, compose, decompose
 from ergosim.worker.bvh_kinematics import global_rotations
 from ergosim.worker.bvh_parse import BvhData
+from ergosim.worker.bvh_products import const_times, times_const
 
 __all__ = ["ROLES", "REQUIRED_ROLES", "NAME_CANDIDATES", "SkeletonMap", "map_skeleton", "segment_frames",
            "frames_to_angles", "angles_to_frames", "recording_angles", "TRUNK_REFERENCES"]
@@ -202,10 +203,13 @@ def map_skeleton(data: BvhData, name_map: Mapping[str, str] | None = None) -> Sk
     return SkeletonMap(roles, names, c, rest)
 
 
-def segment_frames(data: BvhData, smap: SkeletonMap, frames: slice = slice(None)) -> dict[str, np.ndarray]:
-    """Anatomical orientation (n, 3, 3) of each mapped segment in body axes (identity = neutral posture)."""
+def segment_frames(data: BvhData, smap: SkeletonMap,
+                   frames: slice | np.ndarray = slice(None)) -> dict[str, np.ndarray]:
+    """Anatomical orientation (n, 3, 3) of each mapped segment in body axes (identity = neutral posture), for
+    the ``frames`` (a slice or indices) of ``data``."""
     g = global_rotations(data, list(smap.joints.values()), frames)
-    return {r: smap.c @ g[k] @ smap.c.T @ smap.rest[r] for r, k in smap.joints.items()}
+    return {r: times_const(times_const(const_times(smap.c, g[k]), smap.c.T), smap.rest[r])
+            for r, k in smap.joints.items()}
 
 
 def _heading(a_pelvis: np.ndarray) -> np.ndarray:
@@ -222,35 +226,39 @@ def _rel(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.swapaxes(a, -1, -2) @ b
 
 
-def frames_to_angles(seg: Mapping[str, np.ndarray],
-                     trunk_reference: str = "vertical") -> dict[str, np.ndarray]:
+def frames_to_angles(seg: Mapping[str, np.ndarray], trunk_reference: str = "vertical",
+                     consecutive: bool = True) -> dict[str, np.ndarray]:
     """Canonical angles [deg], name -> (n,), from segment orientations (see :func:`segment_frames`).
 
     ``trunk_reference="vertical"`` measures the trunk against the upright with the pelvis's heading (hip
     flexion counts as trunk flexion, as in the human model whose pelvis is fixed and as RULA scores it);
-    ``"pelvis"`` measures it against the pelvis segment (lumbar spine only).
+    ``"pelvis"`` measures it against the pelvis segment (lumbar spine only). ``consecutive``: False for a
+    sample of a recording's frames (:func:`~ergosim.worker.bvh_chains.decompose`).
     """
     if trunk_reference not in TRUNK_REFERENCES:
         raise ValueError(f"trunk_reference must be one of {TRUNK_REFERENCES}, not {trunk_reference!r}")
+    def dec(chain: str, r: np.ndarray, pre: str = "") -> dict[str, np.ndarray]:
+        return decompose(CHAINS[chain], r, pre, consecutive)
+
     thorax = seg["thorax"]
     ref = _heading(seg["pelvis"]) if trunk_reference == "vertical" else seg["pelvis"]
-    out = decompose(CHAINS["trunk"], _rel(ref, thorax))
-    out |= decompose(CHAINS["neck"], _rel(thorax, seg["head"]))
+    out = dec("trunk", _rel(ref, thorax))
+    out |= dec("neck", _rel(thorax, seg["head"]))
     for side, pre in SIDES.items():
         if f"{side}_upper_arm" not in seg:
             continue
         clav = thorax
         if f"{side}_clavicle" in seg:
-            out |= decompose(CHAINS["clavicle"], _rel(thorax, seg[f"{side}_clavicle"]), pre)
+            out |= dec("clavicle", _rel(thorax, seg[f"{side}_clavicle"]), pre)
             # Only the elevation is a canonical angle: the arm hangs from a clavicle that only elevates, so
             # any protraction or twist of the recorded clavicle is counted in the shoulder angles.
             clav = thorax @ compose(CHAINS["clavicle"], out, pre)
         else:
             out[pre + "shoulder_elevation"] = np.zeros(len(thorax))
         upper, fore = seg[f"{side}_upper_arm"], seg[f"{side}_forearm"]
-        out |= decompose(CHAINS["shoulder"], _rel(clav, upper), pre)
-        out |= decompose(CHAINS["elbow"], _rel(upper, fore), pre)
-        out |= decompose(CHAINS["wrist"], _rel(fore, seg[f"{side}_hand"]), pre)
+        out |= dec("shoulder", _rel(clav, upper), pre)
+        out |= dec("elbow", _rel(upper, fore), pre)
+        out |= dec("wrist", _rel(fore, seg[f"{side}_hand"]), pre)
     return out
 
 
@@ -269,9 +277,28 @@ def angles_to_frames(angles: Mapping[str, np.ndarray | float], n: int) -> dict[s
     return seg
 
 
-def recording_angles(data: BvhData, smap: SkeletonMap,
-                     trunk_reference: str = "vertical") -> dict[str, np.ndarray]:
-    """Canonical angles [deg], name -> (n_frames,), of every frame of ``data``, in batches."""
-    parts = [frames_to_angles(segment_frames(data, smap, slice(a, a + _CHUNK)), trunk_reference)
-             for a in range(0, data.n_frames, _CHUNK)]
+def recording_angles(data: BvhData, smap: SkeletonMap, trunk_reference: str = "vertical",
+                     frames: np.ndarray | None = None) -> dict[str, np.ndarray]:
+    """Canonical angles [deg], name -> (n_frames,), of every frame of ``data``, in batches of frames.
+
+    ``frames``: increasing indices of the only frames to map, e.g. the ones a replay's ticks use; each gets
+    the angles of the whole mapping bit for bit (a batch where such a frame is in gimbal lock is mapped
+    whole, as it holds an angle of the frame before). The result is then name -> (len(frames),).
+    """
+    if frames is None:
+        parts = [frames_to_angles(segment_frames(data, smap, slice(a, a + _CHUNK)), trunk_reference)
+                 for a in range(0, data.n_frames, _CHUNK)]
+        return {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
+    frames = np.asarray(frames, dtype=np.int64)
+    parts = [frames_to_angles(segment_frames(data, smap, frames[:0]), trunk_reference)]
+    for a in range(0, data.n_frames, _CHUNK):
+        lo, hi = np.searchsorted(frames, (a, a + _CHUNK))
+        if lo == hi:
+            continue
+        try:
+            part = frames_to_angles(segment_frames(data, smap, frames[lo:hi]), trunk_reference, False)
+        except HeldFrame:
+            whole = frames_to_angles(segment_frames(data, smap, slice(a, a + _CHUNK)), trunk_reference)
+            part = {k: v[frames[lo:hi] - a] for k, v in whole.items()}
+        parts.append(part)
     return {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}

@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from ergosim.errors import RecordingError
+from ergosim.worker.bvh_motion import find_header, frame_lines, motion_header, read_frames
 
 __all__ = ["BvhJoint", "BvhData", "parse_bvh", "parse_bvh_text", "MAX_BVH_BYTES"]
 
@@ -158,69 +159,25 @@ def _parse_joint(tk: _Tokens, name: str, line: int, parent: int, joints: list[Bv
             raise tk.error(f"expected JOINT, End Site or '}}' in joint {name!r}, found {tok!r}", tline)
 
 
-def _header_value(lines: list[str], n: int, label: str, source: str) -> tuple[str, int]:
-    """The value after ``label`` (e.g. 'Frames:') on the next non-empty line at or after index ``n``."""
-    while n < len(lines) and not lines[n].strip():
-        n += 1
-    if n >= len(lines):
-        raise RecordingError(f"file ends in MOTION, expected '{label}'", where=f"{source}:{len(lines)}")
-    text = " ".join(lines[n].split())  # tabs or runs of blanks anywhere, e.g. "Frame\tTime:\t0.0167"
-    if not text.lower().startswith(label.lower()):
-        raise RecordingError(f"expected '{label} <value>', found {text[:40]!r}", where=f"{source}:{n + 1}")
-    return text[len(label):].strip(), n
-
-
-def _parse_motion(lines: list[str], start: int, n_channels: int, source: str) -> tuple[float, np.ndarray]:
-    value, n = _header_value(lines, start, "Frames:", source)
-    if not value.isdigit() or int(value) < 1:
-        raise RecordingError(f"Frames must be a positive integer, found {value!r}", where=f"{source}:{n + 1}")
-    n_frames = int(value)
-    value, n = _header_value(lines, n + 1, "Frame Time:", source)
-    try:
-        frame_time = float(value)
-    except ValueError:
-        frame_time = float("nan")
-    if not (np.isfinite(frame_time) and frame_time > 0):
-        raise RecordingError(f"Frame Time must be a positive number of seconds, found {value!r}",
-                             where=f"{source}:{n + 1}")
-    rows: list[list[str]] = []
-    row_lines: list[int] = []
-    for k in range(n + 1, len(lines)):
-        toks = lines[k].split()
-        if not toks:
-            continue
-        if len(rows) == n_frames:
-            raise RecordingError(f"more frame lines than Frames: {n_frames}", where=f"{source}:{k + 1}")
-        if len(toks) != n_channels:
-            raise RecordingError(f"frame {len(rows) + 1} has {len(toks)} values, expected {n_channels} "
-                                 "(one per channel)", where=f"{source}:{k + 1}")
-        rows.append(toks)
-        row_lines.append(k + 1)
-    if len(rows) < n_frames:
-        raise RecordingError(f"file is truncated: Frames: {n_frames} but only {len(rows)} frame lines",
-                             where=f"{source}:{len(lines)}")
-    try:
-        motion = np.array(rows, dtype=float).reshape(n_frames, n_channels)
-        bad = ~np.isfinite(motion)
-    except ValueError:
-        bad = None
-    if bad is None or bad.any():
-        for toks, line in zip(rows, row_lines, strict=True):
-            for col, tok in enumerate(toks):
-                try:
-                    ok = np.isfinite(float(tok))
-                except ValueError:
-                    ok = False
-                if not ok:
-                    raise RecordingError(f"value {tok!r} in column {col + 1} is not a finite number",
-                                         where=f"{source}:{line}")
-    return frame_time, motion
-
-
 def parse_bvh_text(text: str, source: str = "<string>") -> BvhData:
     """Parse BVH ``text``; ``source`` names it in error messages."""
-    lines = text.splitlines()
-    motion_at = next((k for k, line in enumerate(lines) if line.split()[:1] == ["MOTION"]), None)
+    return _parse(text, source)
+
+
+def _split(text: str | bytes) -> list[str]:
+    return (text.decode("ascii") if isinstance(text, bytes) else text).splitlines()
+
+
+def _parse(text: str | bytes, source: str) -> BvhData:
+    """Parse ``text``: a str, or the bytes of a file that is all ASCII (then numpy reads its frame lines
+    straight from the bytes). Only the lines up to the MOTION header are split into strings, unless the
+    frame lines are not well formed: then the whole text is, and the line-by-line reader names the problem."""
+    head = find_header(text)
+    if head is None:
+        lines = _split(text)
+        motion_at = next((k for k, line in enumerate(lines) if line.split()[:1] == ["MOTION"]), None)
+    else:
+        lines, motion_at, body_at = head
     tk = _Tokens(lines if motion_at is None else lines[:motion_at], source)
     tk.keyword("HIERARCHY")
     tk.keyword("ROOT")
@@ -237,7 +194,15 @@ def parse_bvh_text(text: str, source: str = "<string>") -> BvhData:
     dup = next((k for k, n in enumerate(names) if n in names[:k]), None)
     if dup is not None:
         raise RecordingError(f"joint name {names[dup]!r} is used twice", where=f"{source}:{joints[dup].line}")
-    frame_time, motion = _parse_motion(lines, motion_at + 1, n_channels, source)
+    motion = None
+    if head is not None:
+        n_frames, frame_time, n = motion_header(lines, motion_at + 1, source)
+        motion = read_frames(text[body_at:], n_frames, n_channels)
+        if motion is None:
+            lines = _split(text)
+    if motion is None:
+        n_frames, frame_time, n = motion_header(lines, motion_at + 1, source)
+        motion = frame_lines(lines, n + 1, n_frames, n_channels, source)
     motion.setflags(write=False)
     return BvhData(tuple(joints), frame_time, motion, source)
 
@@ -265,9 +230,9 @@ def parse_bvh(path: str | Path) -> BvhData:
             data = f.read(MAX_BVH_BYTES + 1)
         if len(data) > MAX_BVH_BYTES:
             raise RecordingError(f"more than the limit of {MAX_BVH_BYTES} bytes", where=str(path))
-        text = data.decode("utf-8-sig")
+        text = data if data.isascii() else data.decode("utf-8-sig")
     except FileNotFoundError:
         raise RecordingError("no such file", where=str(path)) from None
     except (OSError, UnicodeDecodeError) as exc:
         raise RecordingError(f"cannot read BVH file: {exc}", where=str(path)) from None
-    return parse_bvh_text(text, str(path))
+    return _parse(text, str(path))

@@ -20,13 +20,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ergosim.ergonomics.kwear import KWearParams
+from ergosim.ergonomics.kwear import KWearParams, kwear_trajectory
 from ergosim.ergonomics.risk_index import KWearIndex
 from ergosim.ergonomics.rula import RULA_PARTS, part_scores, rula
 from ergosim.errors import ConfigError, RecordingError
 from ergosim.posture import ANGLE_NAMES, KWEAR_JOINTS, array_to_posture
 
-__all__ = ["REPLAY_COLUMNS", "ReplayTrace", "score_frames", "tick_indices", "replay"]
+__all__ = ["REPLAY_COLUMNS", "ReplayTrace", "score_frames", "tick_indices", "replay", "replay_ticks"]
 
 
 REPLAY_COLUMNS: tuple[str, ...] = (
@@ -134,21 +134,37 @@ def replay(frames, mocap_rate: float, params: KWearParams | None = None, *, rate
     if rest.ndim and rest.shape != (n,):
         raise ConfigError(f"resting must be a bool or ({n},) per frame, got shape {rest.shape}",
                           where="replay")
-    if index is None:
-        index = KWearIndex(params if params is not None else KWearParams(), {})
     idx = tick_indices(n, mocap_rate, rate)
-    k = len(idx)
-    angles = a[idx]
+    return replay_ticks(a[idx], idx, params, rate=rate, acting=~np.broadcast_to(rest, (n,))[idx], t0=t0,
+                        index=index)
+
+
+def replay_ticks(angles, frame, params: KWearParams | None = None, *, rate: float = 20.0, acting=True,
+                 t0: float = 0.0, index: KWearIndex | None = None) -> ReplayTrace:
+    """:func:`replay` of the tick frames alone: ``angles`` (k, 14) measured angles [deg] of the frames
+    ``frame`` (k,) that the ticks use (:func:`tick_indices`), ``acting`` bool or (k,) per tick.
+
+    Without an ``index``, KWear runs from zero wear through
+    :func:`~ergosim.ergonomics.kwear.kwear_trajectory`: the same operations as a fresh :class:`KWearIndex`
+    tick by tick.
+    """
+    angles = _angles(angles, "replay")
+    k = len(angles)
+    frame = np.asarray(frame, dtype=np.int64)
     parts, grand, g = score_frames(angles)
-    acting = ~np.broadcast_to(rest, (n,))[idx]
+    acting = np.array(np.broadcast_to(np.asarray(acting, dtype=bool), (k,)))
     dropout = np.isnan(angles).any(axis=1)
-    v = np.empty((k, _M))
     dt = 1.0 / rate
-    zero = np.zeros(_M)
-    for i in range(k):  # KWear is a recursion: V(t_k) depends on V(t_{k-1})
-        if acting[i]:
-            v[i] = index.update(g[i], dt)
-        else:
-            v[i] = index.update(zero, dt, resting=True)
+    if index is None:
+        v = kwear_trajectory(np.zeros(_M), np.where(acting[:, None], g, 0.0), dt,
+                             params if params is not None else KWearParams(), resting=~acting)
+    else:
+        v = np.empty((k, _M))
+        zero = np.zeros(_M)
+        for i in range(k):  # KWear is a recursion: V(t_k) depends on V(t_{k-1})
+            if acting[i]:
+                v[i] = index.update(g[i], dt)
+            else:
+                v[i] = index.update(zero, dt, resting=True)
     t = t0 + np.arange(1, k + 1) / rate
-    return ReplayTrace(t, idx, angles, parts, grand, g, v, acting, dropout, int(dropout.sum()), float(rate))
+    return ReplayTrace(t, frame, angles, parts, grand, g, v, acting, dropout, int(dropout.sum()), float(rate))

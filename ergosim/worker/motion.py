@@ -18,11 +18,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, NamedTuple, Protocol
 
-import mujoco
 import numpy as np
 
 from ergosim.human.model import ROOT_BODY
 from ergosim.posture import HUMAN_JOINTS, STANCE
+from ergosim.quat import to_mat
 from ergosim.worker.action_timing import action_timing
 from ergosim.worker.ik import WholeBodyIK
 from ergosim.worker.keyposes import plan_keyposes
@@ -93,12 +93,6 @@ class ActionMotion:
         return np.concatenate([self.angles, self.stances], axis=1)
 
 
-def _quat_to_mat(quat: np.ndarray) -> np.ndarray:
-    m = np.empty(9)
-    mujoco.mju_quat2Mat(m, np.asarray(quat, dtype=float))
-    return m.reshape(3, 3)
-
-
 def _grip(scene: SceneView, part: str, part_pos_w: np.ndarray, part_rot: np.ndarray, r_frame: np.ndarray,
           tgt_rot: np.ndarray, handover: bool = False) -> np.ndarray | None:
     """Where the hand takes a part it inserts: by its outer end, the end that stays out (the part's
@@ -143,7 +137,7 @@ class Worker:
     # -- frames ---------------------------------------------------------------------------------------------
     def _frame(self, scene: SceneView) -> tuple[np.ndarray, np.ndarray]:
         pos, quat = scene.body_pose(ROOT_BODY)
-        return np.asarray(pos, dtype=float), _quat_to_mat(quat)
+        return np.asarray(pos, dtype=float), to_mat(quat)
 
     def standing_area(self, scene: SceneView) -> StandingArea:
         """Where the worker may stand in ``scene``: its ``standing_area`` if it gives one, else the cell's
@@ -177,8 +171,8 @@ class Worker:
         origin, r_frame = self._frame(scene)
         part_pos_w, part_quat_w = scene.body_pose(part)
         tgt_pos_w, tgt_quat_w = scene.site_pose(target_site)
-        part_pose = (r_frame.T @ (np.asarray(part_pos_w) - origin), r_frame.T @ _quat_to_mat(part_quat_w))
-        tgt_pose = (r_frame.T @ (np.asarray(tgt_pos_w) - origin), r_frame.T @ _quat_to_mat(tgt_quat_w))
+        part_pose = (r_frame.T @ (np.asarray(part_pos_w) - origin), r_frame.T @ to_mat(part_quat_w))
+        tgt_pose = (r_frame.T @ (np.asarray(tgt_pos_w) - origin), r_frame.T @ to_mat(tgt_quat_w))
         prior = self.subject.prior().jittered(rng, self.subject.variability_deg)
         seats = getattr(geometry, "seats", kind in ("insert", "fasten"))
         grip = _grip(scene, part, part_pos_w, part_pose[1], r_frame, tgt_pose[1], handover) if seats else None

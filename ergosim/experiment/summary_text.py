@@ -1,0 +1,104 @@
+"""The readable end-of-run summary printed by ``ergosim run``.
+
+It says what happened, not only what was planned: the robot share counts completed actions (forced ones
+too, failed attempts never), a warning line names every forced decision, failure and abandoned
+repetition, and each mode's allocation table has a labelled row per subject and repetition.
+"""
+
+from __future__ import annotations
+
+from ergosim.twin.modes import mode_or_default
+
+__all__ = ["summary_text", "warning_lines"]
+
+_LEGEND = "H worker, R robot, * forced, ! after a failed attempt, - not done, x no agent left"
+
+
+def _share(m: dict, share: str, robot: str, total: str) -> str:
+    if not m.get(total):
+        return "-"
+    return f"{100 * m[share]:5.1f}% ({m[robot]}/{m[total]})"
+
+
+def warning_lines(summary: dict) -> list[str]:
+    """One ``WARNING`` line per mode with forced decisions, failed attempts or abandoned repetitions."""
+    lines = []
+    if not summary.get("complete", True) and summary.get("status") in ("interrupted", "failed", "running"):
+        done, planned = summary.get("subjects_finished"), summary.get("subjects_planned")
+        lines.append(f"WARNING: run {summary.get('status')}: {done} of {planned} subjects finished; "
+                     "the files hold only those")
+    for mode, m in summary.get("modes", {}).items():
+        parts = []
+        for key, what in (("forced_robot_actions", "forced robot action(s)"),
+                          ("forced_human_actions", "forced worker action(s)"),
+                          ("robot_failures", "robot failure(s)"),
+                          ("worker_failures", "worker failure(s)"),
+                          ("repetitions_abandoned", "repetition(s) abandoned"),
+                          ("repetitions_not_run", "repetition(s) not run")):
+            if m.get(key):
+                parts.append(f"{m[key]} {what}")
+        if parts:
+            reps = m.get("repetitions", [])
+            reasons = sorted({r["reason"] for r in reps if r.get("outcome") == "abandoned"})
+            why = f" (abandoned: {'; '.join(reasons)})" if reasons else ""
+            lines.append(f"WARNING: {mode}: " + ", ".join(parts) + why + "; see failures.csv")
+    return lines
+
+
+def _table(mode: str, rows: list[dict], actions: list[str]) -> list[str]:
+    if not rows:
+        return []
+    label = [f"subject {r['subject']} rep {r['repetition']}" for r in rows]
+    width = max(len(s) for s in label)
+    cell = max([3, *(len(a) for a in actions), *(len(c) for r in rows for c in r["cells"].values())])
+    lines = [f"allocations, {mode} ({_LEGEND}):",
+             ("  " + " " * width + "  " + " ".join(a.ljust(cell) for a in actions)).rstrip()]
+    for name, r in zip(label, rows, strict=True):
+        tail = "" if r.get("outcome") in ("completed", "") else f"  {r['outcome']}"
+        lines.append(("  " + name.ljust(width) + "  "
+                      + " ".join(r["cells"].get(a, "-").ljust(cell) for a in actions)).rstrip() + tail)
+    return lines
+
+
+def summary_text(summary: dict, cfg) -> str:
+    status = summary.get("status", "complete" if summary.get("complete", True) else "interrupted")
+    flag = {"complete": "", "abandoned": "  [INCOMPLETE: repetitions abandoned]",
+            "interrupted": "  [INCOMPLETE: interrupted]", "failed": "  [INCOMPLETE: failed]"}.get(status, "")
+    lines = [f"scenario {summary.get('scenario')} (seed {summary.get('seed')})" + flag]
+    modes = summary.get("modes", {})
+    actions = summary.get("action_labels") or sorted({a for m in modes.values()
+                                                      for a in m.get("robot_share_by_action", {})})
+    lines.append(f"actions: {' '.join(actions) if actions else '-'}; robot share = completed robot actions / "
+                 "completed actions either agent may do")
+    lines.append(f"{'mode':<8} {'reps done':>9} {'abandoned':>9} {'overruns':>8} {'robot share':>15} "
+                 f"{'of choices':>15}  robot share by action")
+    for mode, m in modes.items():
+        by = "  ".join(f"{a} {100 * s:3.0f}%" for a, s in sorted(m["robot_share_by_action"].items()))
+        planned = len(m.get("repetitions", [])) or m["repetitions_completed"]
+        reps = f"{m['repetitions_completed']}/{planned}"
+        lines.append(f"{mode:<8} {reps:>9} {m.get('repetitions_abandoned', 0):>9} {m['takt_overruns']:>8} "
+                     f"{_share(m, 'robot_share', 'robot_actions', 'actions'):>15} "
+                     f"{_share(m, 'robot_share_chosen', 'robot_choices', 'choices'):>15}  {by}")
+    for key, label in (("kwear_integral_by_subject", "KWear integral ∫ΣV dt over repetitions × takt [s]"),
+                       ("kwear_integral_run_by_subject", "KWear integral over the whole run [s]"),
+                       ("duration_by_subject", "run duration [s]")):
+        loads = {mode: m.get(key, []) for mode, m in modes.items()}
+        if any(loads.values()):
+            lines.append(f"{label}: " + "; ".join(
+                f"{mode} mean {sum(v) / len(v):.1f}" for mode, v in loads.items() if v))
+    tests = summary.get("wilcoxon_by_metric") or {"kwear_integral": summary.get("wilcoxon") or {}}
+    for w in tests.values():
+        if w.get("p") is not None:
+            lines.append(f"Wilcoxon signed-rank ({w['metric']}, hrc vs h-only, n={w['n']}): "
+                         f"W = {w['statistic']:g}, p = {w['p']:.3g}")
+    for mode, m in modes.items():
+        if mode_or_default(mode).uses_robot or m.get("repetitions_abandoned") or m.get("worker_failures"):
+            lines.extend(_table(mode, m.get("allocation_rows", []), actions))
+    cal = summary.get("calibration", {})
+    etas = cal.get("eta_by_subject", [])
+    if etas:
+        flat = [e for d in etas for e in d.values()]
+        lines.append(f"calibration η: min {min(flat)}, max {max(flat)} (η0 = {cfg.calibration.eta0}, "
+                     f"η_max = {cfg.calibration.eta_max}, Ṽ_des = {cfg.calibration.v_des:g})")
+    lines.extend(warning_lines(summary))
+    return "\n".join(lines)

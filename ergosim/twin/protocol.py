@@ -1,0 +1,287 @@
+"""The protocol of a simulated experiment: grouped, frozen configs (mujoco_playground's ``default_config()``).
+
+A scenario file's ``[protocol]`` table (docs/workcell_format.md) and ``--set`` address every field by its
+own flat name (``takt = 40``, ``--set v_th=0.7``); the fields live in groups by what they shape:
+
+- :class:`CostConfig`, ``cost``: the hyper-arc costs (paper §4, eq. 10-11) and the static RULA baseline;
+- :class:`RobotConfig`, ``robot``: the robot's TCP speeds;
+- :class:`PopulationConfig`, ``population``: how many synthetic subjects, and who they are;
+- :class:`PacingConfig`, ``pacing``: the repetitions, the takt and who paces the line;
+- :class:`TeamConfig`, ``team``: team execution and negotiation (issue 17);
+- :class:`SensingConfig`, ``sensing``: the clocks and the mocap stream;
+- :class:`CalibrationConfig`, ``calibration``: the calibration of α (§5).
+
+:class:`ScenarioConfig` holds the groups with the scenario's labels, modes and planner. Flat names are
+unique across the groups; :data:`PROTOCOL_KEYS` lists them in the order the file format documents them,
+:meth:`ScenarioConfig.record` writes them flat, as every output records the protocol.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping
+from typing import Any, Literal
+
+from ergosim.ergonomics.cost import CostParams, rula_baseline_params
+from ergosim.errors import ConfigError
+from ergosim.overrides import flat_values, replace_flat
+from ergosim.planner.tie_break import TIE_RULES
+from ergosim.robot.trajectory import CONTACT_SPEED, TRANSIT_SPEED
+from ergosim.twin.modes import mode_names
+
+__all__ = ["ScenarioConfig", "CostConfig", "RobotConfig", "PopulationConfig", "PacingConfig", "TeamConfig",
+           "SensingConfig", "CalibrationConfig", "PROTOCOL_KEYS", "EE_SPEED_MAX", "ETA_MAX_LIMIT"]
+
+EE_SPEED_MAX = 1.7
+"""Largest end-effector speed [m/s]: the Franka Emika Panda's Cartesian translation limit (Franka Control
+Interface documentation, "Limits for Panda": 1.7 m/s)."""
+ETA_MAX_LIMIT = 50
+"""Largest eta_max (calibration passes, §5). Assumed: each pass performs every action once (about a minute
+of simulated work), so 50 passes already take minutes of wall time per subject; the paper's η stay < 10."""
+
+
+def _need(ok: bool, msg: str, where: str) -> None:
+    if not ok:
+        raise ConfigError(msg, where=where)
+
+
+@dataclasses.dataclass(frozen=True)
+class CostConfig:
+    """The hyper-arc costs (paper §4, eq. 10-11) and the static RULA baseline (§7.1); dimensionless."""
+
+    robot_cost: float = 1.0
+    """c_{h,w_r}: the constant cost of every robot hyper-arc (paper §4); a scenario file must give it."""
+    gamma: float = 100.0
+    """Γ: penalty added to γ_i when V̂_i ≥ V_th (eq. 11)."""
+    v_th: float = 0.8
+    """V_th,i for every monitored joint (80 % of the KWear range, paper §7.1)."""
+    rula_g_max: float = 9.0
+    """G_max of the static RULA baseline; the paper takes 9, the top of Table A (§7.1)."""
+    rula_threshold_fraction: float = 0.8
+
+    @property
+    def rula_threshold(self) -> float:
+        """G_th = fraction × G_max (7.2 with the paper's values)."""
+        return self.rula_threshold_fraction * self.rula_g_max
+
+    def params(self, v_max: float) -> CostParams:
+        """The cost model's constants (eq. 10-11) for a risk index whose largest value is ``v_max``."""
+        return CostParams(gamma=self.gamma, v_th=self.v_th, robot_cost=self.robot_cost, v_max=v_max)
+
+    def rula_params(self) -> CostParams:
+        """The cost model's constants for the static RULA baseline (risk G / G_max, §7.1)."""
+        return rula_baseline_params(self.robot_cost, self.gamma, g_th=self.rula_threshold,
+                                    g_max=self.rula_g_max)
+
+    def validate(self, where: str) -> None:
+        _need(self.robot_cost > 0, f"robot_cost must be > 0, got {self.robot_cost}", where)
+        _need(self.gamma > 0, f"gamma must be > 0, got {self.gamma}", where)
+        _need(0 < self.v_th < 1, f"v_th must be in (0, 1), got {self.v_th}", where)
+        _need(0 < self.rula_threshold_fraction <= 1, "rula_threshold_fraction must be in (0, 1]", where)
+
+
+@dataclasses.dataclass(frozen=True)
+class RobotConfig:
+    """The robot's TCP speeds [m/s]."""
+
+    ee_speed: float = CONTACT_SPEED
+    """Contact-critical motion (approach, grasp, lift-off, place, insertion, retreat, the final approach into
+    the handover pose); the paper's conservative 0.05 m/s (§7.2)."""
+    transit_speed: float = TRANSIT_SPEED
+    """Free-space transits; ISO 10218-1:2011 §5.6 reduced speed (<= 0.25 m/s), at least ee_speed and at most
+    EE_SPEED_MAX."""
+
+    def validate(self, where: str) -> None:
+        _need(0 < self.ee_speed <= EE_SPEED_MAX, f"ee_speed must be in (0, {EE_SPEED_MAX}] m/s (the Panda's "
+              f"Cartesian limit), got {self.ee_speed}", where)
+        _need(0 < self.transit_speed <= EE_SPEED_MAX, f"transit_speed must be in (0, {EE_SPEED_MAX}] m/s "
+              f"(the Panda's Cartesian limit), got {self.transit_speed}", where)
+        _need(self.ee_speed <= self.transit_speed, f"ee_speed ({self.ee_speed} m/s, contact-critical motion) "
+              f"must not exceed transit_speed ({self.transit_speed} m/s, free-space motion)", where)
+
+
+@dataclasses.dataclass(frozen=True)
+class PopulationConfig:
+    """The synthetic subjects (:func:`ergosim.worker.subjects.make_subjects`)."""
+
+    subjects: int = 1
+    female_fraction: float = 2.0 / 12.0
+    """Share of women among the synthetic subjects: §7.2's cohort, "2 females and 10 males"."""
+    pace: float = 1.0
+    """Mean pace of the subjects: 1 = MTM-1 standard performance (ergosim.worker.action_timing)."""
+
+    def validate(self, where: str) -> None:
+        _need(self.subjects >= 1, f"subjects must be >= 1, got {self.subjects}", where)
+        _need(0 <= self.female_fraction <= 1,
+              f"female_fraction must be in [0, 1], got {self.female_fraction}", where)
+        _need(0.1 <= self.pace <= 2.0, f"pace must be in [0.1, 2] (1 = MTM-1 standard performance), got "
+              f"{self.pace}", where)
+
+
+@dataclasses.dataclass(frozen=True)
+class PacingConfig:
+    """The production schedule: ``repetitions`` at ``takt`` [s] each, and who paces the line."""
+
+    repetitions: int = 1
+    takt: float = 38.0
+    takt_paced: bool = False
+    """Every repetition starts at its takt slot, in every mode (a paced line); False: only modes that wait
+    for the takt (h-only) do, the others start the next repetition at once."""
+
+    @property
+    def horizon(self) -> float:
+        """The length of the production schedule, repetitions × takt [s]."""
+        return self.repetitions * self.takt
+
+    def validate(self, where: str) -> None:
+        _need(self.repetitions >= 1, f"repetitions must be >= 1, got {self.repetitions}", where)
+        _need(self.takt > 0, f"takt must be > 0 s, got {self.takt}", where)
+
+
+@dataclasses.dataclass(frozen=True)
+class TeamConfig:
+    """Team execution (issue 17): how the agents share the work, and whether the worker may refuse."""
+
+    execution: Literal["sequential", "parallel"] = "sequential"
+    """``sequential``, one action at a time (the paper's Algorithm 2); ``parallel``, every idle agent starts
+    the best operation ready now (ergosim.twin.team_session)."""
+    w_time: float = 0.0
+    """Weight of the time term [cost per s]: w_time × the expected duration of the (action, agent) is added
+    to its hyper-arcs (ergosim.twin.durations); 0 keeps the paper's cost (eq. 10-11)."""
+    team_margin: float | None = None
+    """Parallel execution: an idle agent does not start an operation whose cheapest plan costs at least this
+    much more than the optimal plan (it leaves it to the agent that plan chose); None: Γ for modes with a
+    threshold penalty, no limit for the others."""
+    negotiation: bool = False
+    """The worker may refuse an assignment (ergosim.worker.refusal); false keeps the paper's worker."""
+    refusal_tolerance: float = 0.65
+    """Mean over subjects of τ, the predicted KWear (most-loaded joint) at which a worker refuses half the
+    time. Assumed."""
+    refusal_tolerance_sd: float = 0.08
+    """Standard deviation of τ between subjects. Assumed."""
+    refusal_slope: float = 0.05
+    """s of the logistic refusal curve, in KWear units. Assumed."""
+
+    def validate(self, where: str) -> None:
+        _need(self.execution in ("sequential", "parallel"),
+              f"execution must be sequential or parallel, got {self.execution!r}", where)
+        _need(self.w_time >= 0, f"w_time must be >= 0 (cost per second), got {self.w_time}", where)
+        _need(self.team_margin is None or self.team_margin > 0,
+              f"team_margin must be > 0 or none, got {self.team_margin}", where)
+        _need(0 < self.refusal_tolerance < 1, f"refusal_tolerance must be in (0, 1), got "
+              f"{self.refusal_tolerance}", where)
+        _need(self.refusal_tolerance_sd >= 0, f"refusal_tolerance_sd must be >= 0, got "
+              f"{self.refusal_tolerance_sd}", where)
+        _need(self.refusal_slope > 0, f"refusal_slope must be > 0, got {self.refusal_slope}", where)
+
+
+@dataclasses.dataclass(frozen=True)
+class SensingConfig:
+    """The twin's clocks [Hz, s] and the mocap stream's imperfections."""
+
+    ergonomics_rate: float = 20.0
+    mocap_rate: float = 60.0
+    physics_dt: float = 1.0 / 240.0
+    """Nominal physics step [s]; the loop uses mocap period / round(mocap period / physics_dt)."""
+    noise_scale: float = 1.0
+    """Multiplier of each subject's sensor noise (drifting bias and white noise): 0 none, 1 the subject's."""
+    dropout_rate: float = 0.0
+
+    def validate(self, where: str) -> None:
+        _need(self.mocap_rate > 0 and self.ergonomics_rate > 0, "rates must be > 0 Hz", where)
+        ratio = self.mocap_rate / self.ergonomics_rate
+        _need(abs(ratio - round(ratio)) < 1e-9 and ratio >= 1, f"mocap_rate ({self.mocap_rate} Hz) must be a "
+              f"whole multiple of ergonomics_rate ({self.ergonomics_rate} Hz)", where)
+        _need(0 < self.physics_dt <= 1 / self.mocap_rate,
+              f"physics_dt must be in (0, 1/mocap_rate], got {self.physics_dt}", where)
+        _need(self.noise_scale >= 0, "noise_scale must be >= 0", where)
+        _need(0 <= self.dropout_rate < 1, "dropout_rate must be in [0, 1)", where)
+
+
+@dataclasses.dataclass(frozen=True)
+class CalibrationConfig:
+    """The calibration of α with the adaptive η (paper §5)."""
+
+    eta0: int = 2
+    eta_max: int = 10
+    v_des: float = 1e-3
+    """Ṽ_des: target maximum KWear prediction error of the calibration (§5)."""
+    online_alpha_weight: float = 0.0
+    """Weight of the latest execution in the online α average (§5); 0 keeps the calibrated α."""
+
+    def validate(self, where: str) -> None:
+        _need(2 <= self.eta0 <= self.eta_max, f"need 2 <= eta0 <= eta_max, got {self.eta0}, {self.eta_max}",
+              where)
+        _need(self.eta_max <= ETA_MAX_LIMIT, f"eta_max must be <= {ETA_MAX_LIMIT} calibration passes, got "
+              f"{self.eta_max}", where)
+        _need(self.v_des > 0, f"v_des must be > 0, got {self.v_des}", where)
+        _need(0 <= self.online_alpha_weight <= 1, "online_alpha_weight must be in [0, 1]", where)
+
+
+@dataclasses.dataclass(frozen=True)
+class ScenarioConfig:
+    """The protocol of one scenario. ``scene`` and ``task`` are labels (the workcell's name, the task file's
+    name) for the outputs; ``modes``: the allocation modes run (:mod:`ergosim.twin.modes`); ``planner``:
+    ``fast`` (bottom-up) or ``paper`` (Algorithm 1); ``tie_break``: which ready action of an optimal plan
+    goes first when plans of equal cost differ only in their order (:mod:`ergosim.planner.tie_break`;
+    ``costliest-first`` is what the paper's Algorithm 1 returns). Every other field is in its group."""
+
+    scene: str
+    task: str
+    modes: tuple[str, ...] = ("hrc",)
+    planner: Literal["fast", "paper"] = "fast"
+    tie_break: Literal["costliest-first", "task-order", "cheapest-first"] = "costliest-first"
+    cost: CostConfig = CostConfig()
+    robot: RobotConfig = RobotConfig()
+    population: PopulationConfig = PopulationConfig()
+    pacing: PacingConfig = PacingConfig()
+    team: TeamConfig = TeamConfig()
+    sensing: SensingConfig = SensingConfig()
+    calibration: CalibrationConfig = CalibrationConfig()
+
+    @classmethod
+    def of(cls, scene: str, task: str, **fields: Any) -> ScenarioConfig:
+        """A protocol from flat field names: ``ScenarioConfig.of("cell", "task", takt=40.0,
+        robot_cost=2.5)``."""
+        return replace_flat(cls(scene, task), fields)
+
+    def replace(self, **fields: Any) -> ScenarioConfig:
+        """A copy with fields changed by their flat names (``cfg.replace(subjects=1, takt=45.0)``)."""
+        return replace_flat(self, fields)
+
+    def validate(self, where: str = "scenario") -> None:
+        self.population.validate(where)
+        self.pacing.validate(where)
+        _need(all(m in mode_names() for m in self.modes) and len(self.modes) > 0,
+              f"modes must be among {', '.join(mode_names())}, got {','.join(self.modes)}", where)
+        _need(self.tie_break in TIE_RULES, f"tie_break must be one of {', '.join(TIE_RULES)}, got "
+              f"{self.tie_break!r}", where)
+        self.cost.validate(where)
+        self.sensing.validate(where)
+        self.robot.validate(where)
+        self.calibration.validate(where)
+        self.team.validate(where)
+
+    def record(self) -> dict:
+        """The protocol as the outputs record it (``summary.json`` ``config``, ``run.json``), flat by field
+        name: every field, except the team group while it keeps its defaults, so a paper protocol's outputs
+        stay as they were."""
+        out = flat_values(self)
+        if self.team == TeamConfig():
+            for key in dataclasses.asdict(self.team):
+                out.pop(key)
+        return out
+
+    def team_settings(self) -> dict:
+        """The team-execution fields and their values (``team.json``)."""
+        return dataclasses.asdict(self.team)
+
+
+PROTOCOL_KEYS: tuple[str, ...] = tuple(flat_values(ScenarioConfig("scene", "task")))
+"""Every protocol key of a scenario file and of ``--set``, flat."""
+
+
+def protocol_from_record(config: Mapping[str, Any]) -> ScenarioConfig:
+    """The protocol a ``config`` of the outputs (:meth:`ScenarioConfig.record`, lists for tuples) holds."""
+    fields = {k: tuple(v) if isinstance(v, list) else v for k, v in config.items()}
+    return ScenarioConfig.of(fields.pop("scene"), fields.pop("task"), **fields)

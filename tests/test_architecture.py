@@ -1,0 +1,266 @@
+"""The package's architecture, checked (issue 25): checks that fail when the layering breaks.
+
+Imports are read with :mod:`ast` from every module of ``ergosim/``, function-level imports included (a
+lazy ``from ergosim.viz import ...`` inside a function is an import all the same). The layers and what each
+holds are drawn in docs/architecture.md. Each allowance below names a known exception, with the reason and
+the issue that removes it; an allowance that no longer matches anything fails too, so the lists only shrink.
+"""
+
+from __future__ import annotations
+
+import ast
+import functools
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGE = ROOT / "ergosim"
+
+# The layers, lowest first: a module may import its own layer and the layers below, never one above.
+LAYERS: tuple[tuple[str, ...], ...] = (
+    # 0 foundation: errors, file writing, registries, parsing helpers, logging
+    ("__init__", "errors", "atomic", "registry", "plugins", "logs", "overrides", "posture", "progress",
+     "exports", "quat"),
+    # 1 the models: body, risk, robot, worker motion, task planning, workcells
+    ("human", "ergonomics", "robot", "worker", "planner", "scenes"),
+    # 2 the simulation: loop, sessions, allocators, tracks
+    ("twin",),
+    # 3 pictures of the simulation: rerun recordings, video
+    ("viz", "video"),
+    # 4 the experiment around the simulation: scenarios, runs, outputs, merge, summaries
+    ("experiment",),
+    # 5 studies made of experiments
+    ("fidelity", "sweep"),
+    # 6 the user's entry points
+    ("api", "commands", "cli"),
+)
+SIMULATION = ("twin", "worker", "robot", "planner", "ergonomics", "scenes")
+PRESENTATION = ("experiment", "video", "viz")
+
+# (module, imported package) -> why it is allowed for now
+LAYER_ALLOWANCES = {
+    ("ergosim/worker/bvh_benchmark.py", "commands"):
+        "a benchmark of `ergosim replay` kept beside the BVH code; worker/ is the fidelity issue's to move",
+    ("ergosim/worker/bvh_benchmark.py", "cli"):
+        "a benchmark of `ergosim replay` kept beside the BVH code; worker/ is the fidelity issue's to move",
+}
+# module -> (its line count cap, why it is one concept)
+MODULE_LINES = 400
+MODULE_ALLOWANCES = {
+    "ergosim/scenes/cellfile.py": (544, "one file format: a workcell file's keys, parsed and checked"),
+    "ergosim/sweep/design.py": (503, "one file format: a sweep file's axes, designs and cells"),
+}
+# (module, function) -> its line count cap
+FUNCTION_LINES = 80
+FUNCTION_ALLOWANCES = {
+    ("ergosim/worker/ik.py", "solve"): 112,  # worker/ is the fidelity issue's
+    ("ergosim/worker/motion.py", "plan"): 113,  # worker/ is the fidelity issue's
+}
+# module -> the number of reads of a graph's private attributes it may still make
+GRAPH_PRIVATE_ALLOWANCES: dict[str, int] = {}
+
+
+# -- reading the package -------------------------------------------------------------------------------------
+@functools.cache
+def _modules() -> dict[str, ast.Module]:
+    return {p.relative_to(ROOT).as_posix(): ast.parse(p.read_text(encoding="utf-8"), str(p))
+            for p in sorted(PACKAGE.rglob("*.py"))}
+
+
+def _package_of(rel: str) -> str:
+    """``ergosim/twin/loop.py`` -> ``twin``; ``ergosim/cli.py`` -> ``cli``."""
+    return Path(rel).parts[1].removesuffix(".py")
+
+
+def _imports(rel: str, tree: ast.Module) -> list[tuple[int, str]]:
+    """(line, imported ergosim module) of every import in the module, at any depth, relative ones resolved."""
+    package = Path(rel).parts[:-1]  # a module's package; an __init__.py's is its own
+    out = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            out += [(node.lineno, a.name) for a in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = ".".join(package[:len(package) - node.level + 1])
+                module = f"{base}.{node.module}" if node.module else base
+            else:
+                module = node.module or ""
+            out.append((node.lineno, module))
+            out += [(node.lineno, f"{module}.{a.name}") for a in node.names]  # `from ergosim import viz`
+    return [(line, m) for line, m in out if m == "ergosim" or m.startswith("ergosim.")]
+
+
+def _imported_packages(rel: str, tree: ast.Module) -> dict[str, int]:
+    """Top-level ergosim packages (or modules) the module imports -> the first line that does."""
+    names = {p.stem for p in PACKAGE.iterdir() if p.suffix == ".py" or (p / "__init__.py").is_file()}
+    found: dict[str, int] = {}
+    for line, module in _imports(rel, tree):
+        parts = module.split(".")
+        if len(parts) > 1 and parts[1] in names:
+            found.setdefault(parts[1], line)
+    return found
+
+
+def _layer(package: str) -> int:
+    return next(i for i, layer in enumerate(LAYERS) if package in layer)
+
+
+# -- the import layers ---------------------------------------------------------------------------------------
+def test_every_package_has_a_layer():
+    packages = {_package_of(rel) for rel in _modules()}
+    missing = sorted(p for p in packages if not any(p in layer for layer in LAYERS))
+    assert missing == [], f"add these to a layer in LAYERS (and docs/architecture.md): {missing}"
+
+
+def test_the_simulation_never_imports_the_experiment_video_or_viz():
+    found = [f"{rel}:{line} imports ergosim.{pkg}" for rel, tree in _modules().items()
+             if _package_of(rel) in SIMULATION
+             for pkg, line in _imported_packages(rel, tree).items() if pkg in PRESENTATION]
+    assert found == []
+
+
+def test_no_package_imports_a_higher_layer():
+    found, used = [], set()
+    for rel, tree in _modules().items():
+        own = _layer(_package_of(rel))
+        for pkg, line in _imported_packages(rel, tree).items():
+            if pkg in LAYERS[0] or _layer(pkg) <= own:
+                continue
+            if (rel, pkg) in LAYER_ALLOWANCES:
+                used.add((rel, pkg))
+                continue
+            found.append(f"{rel}:{line} (layer {own}) imports ergosim.{pkg} (layer {_layer(pkg)})")
+    assert found == []
+    assert sorted(set(LAYER_ALLOWANCES) - used) == [], "allowances no longer needed: remove them"
+
+
+def test_the_import_reader_sees_function_level_and_relative_imports():
+    """The checks above can fail: the reader finds an import inside a function and a relative one."""
+    src = ("import numpy\n"
+           "def f():\n"
+           "    from ergosim.viz import reason_text\n"
+           "    import ergosim.video.frames\n"
+           "from ..experiment import runner\n"
+           "from ergosim import sweep\n")
+    found = _imported_packages("ergosim/twin/x.py", ast.parse(src))
+    assert found == {"viz": 3, "video": 4, "experiment": 5, "sweep": 6}
+
+
+# -- the planner graph's private state --------------------------------------------------------------------
+@functools.cache
+def _graph_private_names() -> frozenset[str]:
+    """Private attributes the planner's graph classes set on ``self``."""
+    names = set()
+    for rel, tree in _modules().items():
+        if not rel.startswith("ergosim/planner/"):
+            continue
+        for cls in (n for n in ast.walk(tree) if isinstance(n, ast.ClassDef) and n.name.endswith("Graph")):
+            for node in ast.walk(cls):
+                if (isinstance(node, ast.Attribute) and isinstance(node.ctx, ast.Store)
+                        and isinstance(node.value, ast.Name) and node.value.id == "self"
+                        and node.attr.startswith("_") and not node.attr.startswith("__")):
+                    names.add(node.attr)
+    return frozenset(names)
+
+
+def _graph_private_reads(tree: ast.Module, private: frozenset[str]) -> list[str]:
+    """``x._name`` where ``x`` is not ``self`` / ``cls`` and either names a graph (``graph``, ``self.graph``,
+    ``task_graph``) or ``_name`` is an attribute a graph class keeps private."""
+    out = []
+    for node in ast.walk(tree):
+        if not isinstance(node, ast.Attribute) or not node.attr.startswith("_") or node.attr.startswith("__"):
+            continue
+        value = node.value
+        if isinstance(value, ast.Name) and value.id in ("self", "cls"):
+            continue
+        last = getattr(value, "attr", None) or getattr(value, "id", None) or ""
+        if "graph" in last.lower() or node.attr in private:
+            out.append((node.lineno, ast.unparse(node)))
+    return [f"{line} {text}" for line, text in sorted(out)]
+
+
+def test_no_code_outside_the_planner_reads_a_graphs_private_attributes():
+    private = _graph_private_names()
+    counts = {rel: _graph_private_reads(tree, private) for rel, tree in _modules().items()
+              if not rel.startswith("ergosim/planner/")}
+    found = {rel: reads for rel, reads in counts.items() if reads and rel not in GRAPH_PRIVATE_ALLOWANCES}
+    assert found == {}
+    for rel, allowed in GRAPH_PRIVATE_ALLOWANCES.items():
+        n = len(counts.get(rel, []))
+        assert n <= allowed, f"{rel} reads a graph's private attributes more often ({n} > {allowed})"
+        assert n == allowed, f"{rel} now makes {n} private reads: lower (or remove) its allowance"
+
+
+def test_the_private_read_finder_finds_them():
+    src = ("def join(graph, board, op):\n"
+           "    a = graph._op_index[op]\n"
+           "    b = board.graph._node_masks\n"
+           "    c = self._graph._layout\n"
+           "    d = other._part_index\n"
+           "    return self._cache, graph.nodes\n")
+    reads = _graph_private_reads(ast.parse(src), frozenset({"_part_index"}))
+    assert reads == ["2 graph._op_index", "3 board.graph._node_masks", "4 self._graph._layout",
+                     "5 other._part_index"]
+
+
+# -- one list of outputs -------------------------------------------------------------------------------------
+def _imported_names(tree: ast.Module) -> set[tuple[str, str]]:
+    return {(node.module, a.name) for node in ast.walk(tree)
+            if isinstance(node, ast.ImportFrom) and node.module for a in node.names}
+
+
+def test_run_merge_and_sweep_write_through_the_one_outputs_list():
+    """``ergosim run``, ``ergosim merge`` and a sweep's units reach a run folder's files only through
+    :data:`ergosim.experiment.outputs.OUTPUTS`; the file writers behind it are imported by outputs.py
+    alone."""
+    mods = _modules()
+    lists = "ergosim.experiment.outputs"
+    assert (lists, "write_outputs") in _imported_names(mods["ergosim/experiment/scenario_run.py"])
+    assert (lists, "merge_outputs") in _imported_names(mods["ergosim/experiment/run_merge.py"])
+    assert (lists, "OUTPUTS") in _imported_names(mods["ergosim/sweep/units.py"])
+    writers = {("ergosim.experiment.csv_files", n) for n in ("write_allocations", "write_failures",
+                                                             "write_ticks", "write_subjects",
+                                                             "write_action_traces")}
+    writers |= {("ergosim.experiment.subject_records", "write_records"),
+                ("ergosim.experiment.kwear_state", "state_document")}
+    users = {rel: sorted(f"{m}.{n}" for m, n in _imported_names(tree) & writers)
+             for rel, tree in mods.items()}
+    assert {rel: u for rel, u in users.items() if u and rel != "ergosim/experiment/outputs.py"} == {}
+    assert users["ergosim/experiment/outputs.py"]  # the check reads the imports it means
+
+
+def test_the_outputs_list_has_one_entry_per_name_and_file():
+    from ergosim.experiment.outputs import OUTPUTS  # noqa: PLC0415
+
+    names = [o.name for o in OUTPUTS]
+    files = [f for o in OUTPUTS for f in o.files]
+    assert len(set(names)) == len(names) and len(set(files)) == len(files)
+
+
+# -- growth is visible -----------------------------------------------------------------------------------
+def _lines(rel: str) -> int:
+    return len((ROOT / rel).read_text(encoding="utf-8").splitlines())
+
+
+def test_no_module_grows_past_the_limit():
+    over = {rel: _lines(rel) for rel in _modules()
+            if _lines(rel) > MODULE_LINES and rel not in MODULE_ALLOWANCES}
+    assert over == {}, f"split these modules by concept (limit {MODULE_LINES} lines)"
+    for rel, (cap, _why) in MODULE_ALLOWANCES.items():
+        n = _lines(rel) if (ROOT / rel).is_file() else 0
+        assert n <= cap, f"{rel} grew to {n} lines (its allowance is {cap})"
+        assert n > MODULE_LINES, f"{rel} is {n} lines now: remove its allowance"
+
+
+def test_no_function_grows_past_the_limit():
+    limit = FUNCTION_LINES
+    sizes: dict[tuple[str, str], int] = {}
+    for rel, tree in _modules().items():
+        for node in ast.walk(tree):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                key = (rel, node.name)
+                sizes[key] = max(sizes.get(key, 0), node.end_lineno - node.lineno + 1)
+    over = {k: n for k, n in sizes.items() if n > limit and k not in FUNCTION_ALLOWANCES}
+    assert over == {}, f"split these functions (limit {limit} lines)"
+    for key, cap in FUNCTION_ALLOWANCES.items():
+        assert sizes.get(key, 0) <= cap, f"{key} grew to {sizes[key]} lines (its allowance is {cap})"
+        assert sizes.get(key, 0) > limit, f"{key} is {sizes.get(key, 0)} lines now: remove its allowance"
