@@ -50,7 +50,7 @@ def test_the_papers_search_dispatches_the_costliest_ready_step_first(graph):
         if len(set(effective)) < len(FREE):
             continue  # an exact tie of step costs: the rule falls back to the task order
         path = paper_search.solve(graph, config, call_inputs.hyperarc_costs(graph, costs, [], None))
-        first = graph.operations[int(graph._layout.op[path[0]])].action
+        first = graph.operations[int(graph.layout.op[path[0]])].action
         step = next_step(graph, done, costs, planner="paper", rule=PAPER_TIE_RULE)
         assert step.action == first == FREE[int(np.argmax(effective))], costs
         checked += 1
