@@ -2,7 +2,8 @@
 
 Implements Merlo, Lamon et al., "An Ergonomic Role Allocation Framework for Dynamic Human-Robot
 Collaborative Tasks": AND/OR-graph task models with per-agent hyper-arcs, an AO* allocator, RULA and the
-Kinematic Wear index, in a MuJoCo workcell with a Franka Emika Panda and a kinematic human upper body.
+Kinematic Wear index (or REBA), in a MuJoCo workcell with collaborative robots from example-robot-data and
+a kinematic human.
 """
 
 __version__ = "0.1.0"

@@ -22,7 +22,7 @@ from ergosim.logs import configure
 
 __all__ = ["main", "build_parser"]
 
-COMMANDS = ("plan", "run", "scenarios", "replay", "render", "plot", "fidelity", "sweep", "compare",
+COMMANDS = ("plan", "run", "scenarios", "replay", "render", "export", "plot", "fidelity", "sweep", "compare",
             "merge")
 
 

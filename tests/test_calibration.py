@@ -123,7 +123,11 @@ def test_bad_inputs_are_clear_errors():
     with pytest.raises(ConfigError):
         calibrate_action(lambda run: const_execution([1.0] * 5, 5), P, v_des=0.0)
     with pytest.raises(RecordingError, match="shape"):
-        calibrate_action(lambda run: Execution(np.ones((5, 4)), DT), P, action="a1")
+        calibrate_action(lambda run: Execution(np.ones((5, 4)), DT), P, action="a1", joints=5)
+    with pytest.raises(RecordingError, match="shape"):  # every execution with the same joints
+        calibrate_action(lambda run: Execution(np.ones((5, 5 + run)), DT), P, action="a1")
+    six = calibrate_action(lambda run: Execution(np.ones((5, 6)), DT), P, joints=6)  # REBA's six joints
+    assert six.alpha.shape == (6,)
     with pytest.raises(RecordingError, match="dt"):
         calibrate_action(lambda run: Execution(np.ones((5, 5)), 0.0), P)
     with pytest.raises(RecordingError, match="dropout"):

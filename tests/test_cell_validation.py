@@ -134,8 +134,22 @@ def test_an_agent_with_no_body_in_the_cell(capsys, tmp_path, agents, needle):
 
 
 def test_a_part_the_gripper_cannot_take_is_refused_for_the_robot(capsys, tmp_path):
+    """b1 is the worker's or the robot's: the robot is refused it before the physics, in one line, and the
+    worker does it; left to the robot alone, the run is refused."""
     cell = CELL.replace("size = [0.06, 0.06, 0.04]", "size = [0.06, 0.10, 0.04]")
-    _refused(capsys, tmp_path, _own(tmp_path, cell=cell),
+    out = tmp_path / "out"
+    code = main(["run", _own(tmp_path, cell=cell), "--subjects", "1", "--reps", "1", "--jobs", "1", "--quiet",
+                 "--mode", "r-only", "--out", str(out)])
+    stdout = capsys.readouterr().out
+    assert code == 0
+    assert "panda cannot do b1: base is 100 mm wide and the gripper opens 80 mm; the human does it" in stdout
+    rows = (out / "allocations.csv").read_text().splitlines()
+    assert any(",b1,human," in r and ",done," in r for r in rows)
+    assert not any(",b1,robot," in r for r in rows)
+    task = TASK.replace('action = "b1"', 'action = "b1"\nagents = ["robot"]')
+    alone = tmp_path / "alone"
+    alone.mkdir()
+    _refused(capsys, alone, _own(alone, cell=cell, task=task),
              needles=("bracket_task.toml: b1", "its gripper cannot take base (100 mm wide",
                       'agents = ["human"]'))
 

@@ -11,7 +11,8 @@ from ergosim.ergonomics import part_scores
 from ergosim.ergonomics.kwear import KWearParams, kwear_step, predict
 from ergosim.ergonomics.rula import RulaResult, rula, table_a, table_b, table_c
 
-MODULES = ["rula", "rula_parts", "rula_tables", "kwear", "calibration", "param_store", "risk_index", "cost"]
+MODULES = ["rula", "rula_parts", "rula_tables", "reba", "reba_parts", "reba_tables",
+           "kwear", "calibration", "param_store", "risk_index", "cost", "features", "scores"]
 
 
 def test_package_all_names_exist():

@@ -13,8 +13,8 @@ import pytest
 
 from ergosim.cli import main
 from ergosim.experiment.scenario import load_scenario
-from ergosim.experiment.scenario_check import PANDA_MAX_OPENING
 from ergosim.posture import KWEAR_JOINTS
+from ergosim.robot.panda import PANDA
 from ergosim.scenes import build_scene
 from ergosim.viz import RecordingReader
 
@@ -45,7 +45,7 @@ def test_the_gearbox_meets_the_issues_list():
     assert any({frozenset(c) for c in op.children} == subs for op in joins)
     # the housing is too wide for the gripper: the operations that move it are the worker's alone
     housing = cell.part("housing")
-    assert housing.grip_width > PANDA_MAX_OPENING
+    assert housing.grip_width > PANDA.gripper.max_opening
     moving = {a.label for a in cell.actions if a.part == "housing"}
     assert moving and all(op.agents == ("human",) for op in task.operations if op.action in moving)
     assert any("robot" in op.agents for op in task.operations)

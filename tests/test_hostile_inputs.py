@@ -133,13 +133,16 @@ FAR_ROBOT = ["--set", "scene.robot_base=0.94,-0.5,0.9", "--set", "scene.robots.r
 """The Panda on the bench's far right corner: every piece and the handover pose are out of its reach."""
 
 
-def test_failed_robot_attempts_do_not_count_as_robot_actions(tmp_path):
-    """The same cell run from Python, past the CLI's pre-check: r-only sends the robot every action it may
-    do, each attempt fails as unreachable in the physics, and the robot share stays 0."""
+def test_failed_robot_attempts_do_not_count_as_robot_actions(tmp_path, monkeypatch):
+    """The same cell run from Python, past the CLI's pre-check and with the robot's contract not asked (its
+    refusals would take every action from it before the physics): r-only sends the robot every action it
+    may do, each attempt fails as unreachable in the physics, and the robot share stays 0."""
+    import ergosim.experiment.runner as runner  # noqa: PLC0415
     from ergosim.experiment.scenario import load_scenario  # noqa: PLC0415
     from ergosim.experiment.scenario_run import run_scenario  # noqa: PLC0415
     from ergosim.experiment.summary_text import summary_text  # noqa: PLC0415
 
+    monkeypatch.setattr(runner, "robot_refusals", lambda task, cell: {})
     scenario = load_scenario("multi-subject", {"subjects": "1", "repetitions": "1", "modes": "r-only",
                                                "scene.robot_base": "0.94,-0.5,0.9",
                                                "scene.robots.robot.support": "bench"})
@@ -370,11 +373,14 @@ def test_eta_max_is_bounded(capsys, tmp_path):
     _one_line_error(capsys, code, "eta_max must be <= 50")
 
 
-# -- 10. ee_speed is bounded by the Panda's Cartesian limit --------------------------------------------
-def test_ee_speed_is_bounded_by_the_panda(capsys, tmp_path):
+# -- 10. ee_speed is bounded by the robot's Cartesian limit --------------------------------------------
+def test_ee_speed_is_bounded_by_the_robot(capsys, tmp_path):
     code = main(["run", "kwear-validation", "--quiet", "--out", str(tmp_path / "n"),
-                 "--set", "ee_speed=100"])
-    _one_line_error(capsys, code, "ee_speed must be in (0, 1.7] m/s")
+                 "--set", "ee_speed=100", "--set", "transit_speed=100"])
+    _one_line_error(capsys, code, "ee_speed must be at most 1.7 m/s (the panda's Cartesian limit")
+    code = main(["run", "kwear-validation", "--quiet", "--out", str(tmp_path / "n"),
+                 "--set", "transit_speed=1.5", "--set", "scene.robots.robot.model=ur5"])
+    _one_line_error(capsys, code, "transit_speed must be at most 1 m/s (the ur5's Cartesian limit")
     from ergosim.experiment.scenario import scenario_config  # noqa: PLC0415
     from ergosim.overrides import apply_overrides  # noqa: PLC0415
 

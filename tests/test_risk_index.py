@@ -12,9 +12,11 @@ from hypothesis import strategies as st
 
 from ergosim.ergonomics.calibration import Execution, calibrate
 from ergosim.ergonomics.cost import CostParams, risk_costs
+from ergosim.ergonomics.features import FEATURES, feature
 from ergosim.ergonomics.kwear import KWearParams, kwear_step, kwear_trajectory
 from ergosim.ergonomics.param_store import WorkerParams
-from ergosim.ergonomics.risk_index import KWearIndex, RiskIndex, StaticRulaIndex
+from ergosim.ergonomics.reba import REBA_JOINTS
+from ergosim.ergonomics.risk_index import REBA_G_MAX, KWearIndex, RiskIndex, StaticRebaIndex, StaticRulaIndex
 from ergosim.errors import ConfigError
 
 P = KWearParams()
@@ -163,3 +165,34 @@ def test_a_new_risk_index_plugs_into_the_cost_model():
     assert costs[("a1", "human")] == pytest.approx(101.0)
     with pytest.raises(TypeError):
         RiskIndex()  # abstract
+
+
+def test_kwear_on_reba_part_scores_has_six_joints_and_the_same_law():
+    """The REBA-driven variant: the same eq. 3-9 on REBA's six part scores (legs included)."""
+    alphas = {"a1": [0.5, 0.9, 0.9, 0.8, 0.95, 0.97]}
+    idx = KWearIndex(P, alphas, features="reba", joints=REBA_JOINTS)
+    assert idx.features == "reba" and idx.joints == REBA_JOINTS and idx.channels == REBA_JOINTS
+    g = np.array([4.0, 2.0, 3.0, 2.0, 1.0, 2.0])
+    v = np.zeros(6)
+    for _ in range(100):
+        idx.update(g, DT)
+        v = kwear_step(v, g, DT, P)
+    np.testing.assert_allclose(idx.value, v, rtol=1e-12)
+    np.testing.assert_allclose(idx.predict("a1"), 1 - np.array(alphas["a1"]) * (1 - v))
+    with pytest.raises(ConfigError, match="6 values"):
+        KWearIndex(P, ALPHAS, features="reba", joints=REBA_JOINTS)  # RULA's five alphas do not fit
+    six = calibrate(["a1"], lambda a, run: Execution(np.tile(g, (40, 1)), DT), P, joints=6)
+    np.testing.assert_allclose(six.alphas["a1"], np.exp(-g * 40 * DT / P.C))
+
+
+def test_static_reba_index():
+    idx = StaticRebaIndex({"a1": 9.0, "a2": 4.0})
+    assert idx.features == "reba" and idx.channels == ("reba",) and idx.g_max == REBA_G_MAX == 15.0
+    np.testing.assert_allclose(idx.predict_many(["a1", "a2"])[:, 0], [9 / 15, 4 / 15])
+    idx.update(np.full(6, 3.0), DT)
+    assert idx.value.shape == (6,)
+    with pytest.raises(ConfigError, match="no REBA score"):
+        idx.predict("a9")
+    assert set(FEATURES) == {"rula", "reba", "angles"} and FEATURES["reba"].joints == REBA_JOINTS
+    with pytest.raises(ConfigError, match="features: rula, reba, angles"):
+        feature("owas")

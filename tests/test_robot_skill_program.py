@@ -4,7 +4,6 @@ import mujoco
 import numpy as np
 import pytest
 
-from ergosim.robot import PandaKinematics
 from ergosim.robot.skill_program import Carry, Grasp, Leave, Open, Pause, Wait
 from ergosim.robot.skills import SkillParams, handover, pick_place
 from ergosim.robot.status import SkillStatus
@@ -14,11 +13,6 @@ from ergosim.scenes import build_scene
 # the segments whose length the physics decides: the fingers stop where they touch, the carry is re-planned
 # from the actual grasp, the way out starts where that carry ended, a hand-over waits for the worker
 PHYSICS = (Grasp, Open, Carry, Leave, Wait)
-
-
-@pytest.fixture(scope="module")
-def kin():
-    return PandaKinematics()
 
 
 @pytest.fixture(scope="module")
@@ -60,11 +54,11 @@ def _check_program(skill, res, planned_time):
     return {type(s).__name__: n - s.steps for s, n in skill.executed if isinstance(s, PHYSICS)}
 
 
-def test_a_pick_and_place_takes_its_planned_time(kwear, kin):
+def test_a_pick_and_place_takes_its_planned_time(kwear):
     wc = kwear
     wc.reset()
     pos, quat = wc.site_pose("bench_target")
-    skill = pick_place(wc, "J", pos, quat, kin=kin)
+    skill = pick_place(wc, "J", pos, quat)
     state = _state(wc)
     planned = skill.planned_time()
     for a, b in zip(state, _state(wc), strict=True):  # planning changes nothing
@@ -79,7 +73,7 @@ def test_a_pick_and_place_takes_its_planned_time(kwear, kin):
     wc.reset()
 
 
-def test_a_hand_over_takes_its_planned_time_besides_the_wait(multi, kin):
+def test_a_hand_over_takes_its_planned_time_besides_the_wait(multi):
     wc = multi
     wc.reset()
     pos, quat = wc.site_pose("handover")
@@ -92,7 +86,7 @@ def test_a_hand_over_takes_its_planned_time_besides_the_wait(multi, kin):
             return True
         return False
 
-    skill = handover(wc, "S1", pos, quat, worker_takes, kin=kin)
+    skill = handover(wc, "S1", pos, quat, worker_takes)
     planned = skill.planned_time()
     res = _run(wc, skill, still=wc.human.home_deg)
     assert res.status is SkillStatus.OK, res.message
@@ -104,13 +98,13 @@ def test_a_hand_over_takes_its_planned_time_besides_the_wait(multi, kin):
     wc.reset()
 
 
-def test_the_program_follows_the_cell_and_the_robot(multi, kin):
+def test_the_program_follows_the_cell_and_the_robot(multi):
     """Poses come from the cell and speeds from the robot: a hand-over pose 5 cm further moves the place
     pose 5 cm, and a slower transit takes longer."""
     wc = multi
     wc.reset()
     pos, quat = wc.site_pose("handover")
-    near, far = (handover(wc, "L", p, quat, kin=kin).plan() for p in (pos, pos + [0.0, 0.05, 0.0]))
+    near, far = (handover(wc, "L", p, quat).plan() for p in (pos, pos + [0.0, 0.05, 0.0]))
     np.testing.assert_allclose(far.plan.place.pos - near.plan.place.pos, [0.0, 0.05, 0.0], atol=1e-12)
-    slow = handover(wc, "L", pos, quat, kin=kin, params=SkillParams(limits=MotionLimits(transit_speed=0.15)))
+    slow = handover(wc, "L", pos, quat, params=SkillParams(limits=MotionLimits(transit_speed=0.15)))
     assert slow.planned_time() > near.planned_time + 1.0

@@ -5,8 +5,9 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from ergosim.robot import PandaKinematics
+from ergosim.robot import ArmKinematics
 from ergosim.robot.ik import solve_ik
+from ergosim.robot.panda import PANDA
 from ergosim.robot.trajectory import (
     CONTACT_SPEED,
     TRANSIT_SPEED,
@@ -21,7 +22,7 @@ DT = 0.002
 
 @pytest.fixture(scope="module")
 def kin():
-    return PandaKinematics()
+    return ArmKinematics(PANDA)
 
 
 def _tcp(kin, traj):

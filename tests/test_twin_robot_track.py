@@ -36,8 +36,9 @@ def test_both_speeds_are_protocol_fields_with_their_sources():
 
 
 @pytest.mark.parametrize("setting, needle", [
-    ("transit_speed=5", "transit_speed must be in (0, 1.7] m/s (the Panda's Cartesian limit), got 5.0"),
-    ("transit_speed=0", "transit_speed must be in (0, 1.7] m/s"),
+    ("transit_speed=5", "transit_speed must be at most 1.7 m/s (the panda's Cartesian limit, robot 'robot'), "
+                        "got 5"),
+    ("transit_speed=0", "transit_speed must be > 0 m/s"),
     ("transit_speed=fast", "transit_speed='fast' is not a number"),
     ("ee_speed=0.3", "ee_speed (0.3 m/s, contact-critical motion) must not exceed transit_speed (0.25 m/s"),
 ])
@@ -52,7 +53,7 @@ def test_a_scenario_file_names_where_a_bad_speed_is(tmp_path):
     path.write_text('task = "corner-joint:multi-subject"\nworkcell = "multi-subject"\n[protocol]\n'
                     'subjects = 1\nrepetitions = 1\nmodes = ["r-only"]\nrobot_cost = 2.5\n'
                     'transit_speed = 2.0\n')
-    with pytest.raises(ConfigError, match="transit_speed must be in") as err:
+    with pytest.raises(ConfigError, match="transit_speed must be at most 1.7 m/s") as err:
         load_scenario(str(path))
     assert "fast.toml: protocol" in str(err.value)
 

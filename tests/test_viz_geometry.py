@@ -9,12 +9,13 @@ from scipy.spatial import cKDTree
 from scipy.spatial.transform import Rotation
 
 from ergosim.errors import ModelError
-from ergosim.robot.assets import panda_mesh_dir
-from ergosim.robot.model import load_mjcf
+from ergosim.robot.assets import erd_file
+from ergosim.robot.model import load_mjcf, model_dir
+from ergosim.robot.panda import PANDA
 from ergosim.viz import default_body_groups, scene_bodies, wxyz_to_xyzw
 
-FINGER = panda_mesh_dir() / "finger.stl"
-LINK3 = panda_mesh_dir() / "link3.stl"
+FINGER = erd_file("robots/panda_description/meshes/collision/finger.stl")
+LINK3 = erd_file("robots/panda_description/meshes/collision/link3.stl")
 
 MJCF = f"""
 <mujoco model="viz test">
@@ -69,8 +70,11 @@ def panda() -> mujoco.MjModel:
     return load_mjcf("models/panda/scene.xml")
 
 
-def read_stl(path) -> np.ndarray:
-    """Vertices (3 per triangle) of a binary STL file [m]."""
+def read_mesh(path) -> np.ndarray:
+    """Vertices of a binary STL (3 per triangle) or an OBJ file [m]."""
+    if path.suffix == ".obj":
+        return np.array([line.split()[1:] for line in path.read_text().splitlines() if line.startswith("v ")],
+                        dtype=float)
     raw = path.read_bytes()
     n = int(np.frombuffer(raw[80:84], "<u4")[0])
     record = np.dtype([("normal", "<f4", 3), ("v", "<f4", (3, 3)), ("attr", "<u2")])
@@ -118,7 +122,7 @@ def test_primitive_poses_and_sizes(model, bodies):
 
 
 def _check_file_meshes(model, bodies):
-    """The STL file's vertices, placed by the visual's pose and scale, land on MuJoCo's compiled vertices."""
+    """The mesh file's vertices, placed by the visual's pose and scale, land on MuJoCo's compiled vertices."""
     checked = 0
     for body in bodies:
         for v in body.visuals:
@@ -128,7 +132,7 @@ def _check_file_meshes(model, bodies):
             m = model.geom_dataid[g]
             compiled = model.mesh_vert[model.mesh_vertadr[m]:model.mesh_vertadr[m] + model.mesh_vertnum[m]]
             expected = rotate(model.geom_quat[g], compiled) + model.geom_pos[g]  # body frame
-            placed = rotate(v.quat, read_stl(v.mesh_file) * v.scale) + v.pos
+            placed = rotate(v.quat, read_mesh(v.mesh_file) * v.scale) + v.pos
             assert cKDTree(placed).query(expected)[0].max() < 1e-6
             assert cKDTree(expected).query(placed)[0].max() < 1e-6
             checked += 1
@@ -142,12 +146,14 @@ def test_file_meshes_keep_their_file_and_land_where_mujoco_puts_them(model, bodi
     assert _check_file_meshes(model, bodies.values()) == 2
 
 
-def test_panda_visual_meshes_are_the_example_robot_data_files(panda):
+def test_panda_visual_meshes_are_the_model_files(panda):
     bodies = scene_bodies(panda, default_body_groups(panda))
     meshes = [v for b in bodies for v in b.visuals if v.kind == "mesh"]
-    assert len(meshes) == 11  # link0..7, hand, two fingers: the visual class only
-    assert {v.mesh_file.parent for v in meshes} == {panda_mesh_dir()}
-    assert _check_file_meshes(panda, bodies) == 11
+    # link0..7, hand, two fingers in 26 OBJs, one per colour (the finger's two drawn twice): the visual class
+    assert len(meshes) == 28
+    assert {v.mesh_file.resolve().parent for v in meshes} == {(model_dir(PANDA) / "assets").resolve()}
+    assert {v.mesh_file.suffix for v in meshes} == {".obj"}
+    assert _check_file_meshes(panda, bodies) == 28
 
 
 def test_meshes_without_a_file_use_compiled_vertices(model, bodies):

@@ -59,3 +59,12 @@ def test_a_decision_is_data_and_viz_words_it():
     team = _decision(None, excess=1.5, early=True, part="S1")
     assert reason_text(team) == ("a2 → robot: m mode; the robot is idle: best ready operation, plan +1.50; "
                                  "fetches S1 while the rest goes on")
+
+
+def test_kwear_on_reba_part_scores_names_the_legs():
+    v_th = np.full(6, 0.8)  # KWear on REBA's part scores: the five joints and the legs
+    v_hat = {"a2": np.array([0.1, 0.1, 0.2, 0.1, 0.05, 0.85])}
+    assert reason(("a2", "robot"), v_hat=v_hat, v_th=v_th).startswith(
+        "a2 → robot: predicted legs KWear 0.85 ≥ V_th 0.80;")
+    reba = _decision("reba-static", 0.8 * 8 / 15, scale=15.0)  # the static REBA baseline, G_th 8 of 15
+    assert reason_text(reba).startswith(f"a2 → robot: REBA G={V_HAT['a2'][0] * 15:g} ")

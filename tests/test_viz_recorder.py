@@ -16,7 +16,8 @@ from scipy.spatial.transform import Rotation
 
 from ergosim.ergonomics.rula import RULA_PARTS
 from ergosim.posture import ANGLE_NAMES, KWEAR_JOINTS
-from ergosim.robot.assets import panda_mesh_dir
+from ergosim.robot.model import model_dir
+from ergosim.robot.panda import PANDA
 from ergosim.scenes import build_scene
 from ergosim.viz import (
     RecordingReader,
@@ -183,11 +184,11 @@ def test_decisions_hold_the_reason_predictions_and_costs(reader, run):
     assert len(reader.scalars("allocation/v_now/shoulder")[1]) == len(decisions)
 
 
-def test_panda_meshes_are_the_example_robot_data_files(reader):
-    entity = "world/robot/panda_link3/link3"
+def test_panda_meshes_are_the_model_files(reader):
+    entity = "world/robot/panda_link3/link3_0"
     (blob,) = reader.static(entity, "Asset3D:blob")
-    assert bytes(blob) == (panda_mesh_dir() / "link3.stl").read_bytes()
-    assert reader.static(entity, "Asset3D:media_type") == ["model/stl"]
+    assert bytes(blob) == (model_dir(PANDA) / "assets" / "link3_0.obj").read_bytes()
+    assert reader.static(entity, "Asset3D:media_type") == ["model/obj"]
     assert "Transform3D:translation" in reader.components(entity, static=True)
 
 

@@ -127,10 +127,12 @@ def _in_shard(subjects: range, n: int, **chosen) -> None:
 
 
 def _precheck(scenario) -> None:
-    """Refuse a run certain to fail before any subject starts (reachability of every action)."""
+    """Refuse a run certain to fail before any subject starts (reachability of every action); say which
+    actions a robot cannot do (taken from it for the run), one line each."""
     from ergosim.experiment.scenario_check import precheck  # noqa: PLC0415
 
-    precheck(scenario)
+    for line in precheck(scenario):
+        print(line)
 
 
 def run(args) -> int:

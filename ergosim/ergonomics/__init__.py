@@ -1,4 +1,4 @@
-"""Ergonomic assessment (paper §4-5): RULA per body part, the Kinematic Wear index, its calibration,
+"""Ergonomic assessment (paper §4-5): RULA and REBA per body part, the Kinematic Wear index, its calibration,
 the per-worker parameter store, risk indices and the hyper-arc cost model."""
 
 from __future__ import annotations
@@ -23,9 +23,32 @@ from ergosim.ergonomics.cost import (
     rula_baseline_agent,
     rula_baseline_params,
 )
+from ergosim.ergonomics.features import FEATURES, Feature, feature
 from ergosim.ergonomics.kwear import V_CEIL, KWearParams, alpha_of, kwear_step, kwear_trajectory, predict
 from ergosim.ergonomics.param_store import ParamStore, WorkerParams
-from ergosim.ergonomics.risk_index import KWearIndex, RiskIndex, StaticRulaIndex
+from ergosim.ergonomics.reba import (
+    KNEE_ANGLES,
+    REBA_INPUTS,
+    REBA_JOINTS,
+    REBA_PARTS,
+    RebaResult,
+    RebaThresholds,
+    reba,
+    reba_part_scores,
+    reba_table_a,
+    reba_table_b,
+    reba_table_c,
+)
+from ergosim.ergonomics.reba_parts import COUPLINGS, coupling_score, grip_coupling, load_score
+from ergosim.ergonomics.reba_tables import risk_level
+from ergosim.ergonomics.risk_index import (
+    REBA_G_HIGH,
+    REBA_G_MAX,
+    KWearIndex,
+    RiskIndex,
+    StaticRebaIndex,
+    StaticRulaIndex,
+)
 from ergosim.ergonomics.rula import (
     RULA_INPUTS,
     RULA_PARTS,
@@ -54,6 +77,23 @@ __all__ = [
     "part_scores",
     "action_grand_score",
     "most_loaded_joint",
+    # REBA
+    "REBA_INPUTS",
+    "REBA_PARTS",
+    "REBA_JOINTS",
+    "KNEE_ANGLES",
+    "RebaResult",
+    "RebaThresholds",
+    "reba",
+    "reba_table_a",
+    "reba_table_b",
+    "reba_table_c",
+    "reba_part_scores",
+    "risk_level",
+    "COUPLINGS",
+    "coupling_score",
+    "grip_coupling",
+    "load_score",
     # KWear
     "KWearParams",
     "V_CEIL",
@@ -75,6 +115,12 @@ __all__ = [
     "RiskIndex",
     "KWearIndex",
     "StaticRulaIndex",
+    "StaticRebaIndex",
+    "REBA_G_MAX",
+    "REBA_G_HIGH",
+    "Feature",
+    "FEATURES",
+    "feature",
     "CostParams",
     "CostRangeWarning",
     "G_MAX_PAPER",

@@ -33,14 +33,14 @@ __all__ = [
     "online_alpha",
 ]
 
-_M = len(KWEAR_JOINTS)
-
 
 class Execution(NamedTuple):
     """One recorded execution of an action, started at zero wear.
 
-    g: (n, 5) RULA part scores G_i in KWEAR_JOINTS order (NaN rows = dropouts, contributing no wear);
-    dt: tick length [s], scalar or (n,); grand: optional (n,) RULA grand scores, for the static RULA baseline.
+    g: (n, m) part scores G_i of the index's posture feature, e.g. (n, 5) RULA part scores in KWEAR_JOINTS
+    order or (n, 6) REBA part scores in REBA_JOINTS order (NaN rows = dropouts, contributing no wear);
+    dt: tick length [s], scalar or (n,); grand: optional (n,) whole-body scores (RULA grand, REBA score),
+    for a static baseline.
     """
 
     g: np.ndarray
@@ -52,7 +52,7 @@ def execution_from_angles(angles, dt: float | np.ndarray, **rula_kwargs) -> Exec
     """Score a recorded execution: angles (n, 14) in ANGLE_NAMES order or a posture of (n,) arrays [deg]."""
     posture = angles if isinstance(angles, Mapping) else array_to_posture(np.atleast_2d(angles))
     res = rula(posture, **rula_kwargs)
-    return Execution(part_scores(res).reshape(-1, _M), dt, np.atleast_1d(res.grand))
+    return Execution(part_scores(res).reshape(-1, len(KWEAR_JOINTS)), dt, np.atleast_1d(res.grand))
 
 
 @dataclass(frozen=True)
@@ -61,8 +61,9 @@ class ActionCalibration:
 
     ``alpha``: mean coefficient (eq. 9); ``alphas``: per execution; ``errors``: |V_hat - V_l| of each
     execution with the final mean; ``converged``: every error < ``v_des`` (else eta_max was reached);
-    ``rula_grand``: G(a_k) (:mod:`ergosim.ergonomics.rula_action`, its rule ``G_RULE``), for the static RULA
-    baseline (NaN if no grand scores were given);
+    ``rula_grand``: G(a_k) under its rule ``G_RULE`` (:mod:`ergosim.ergonomics.rula_action`): the RULA grand
+    score for the static RULA baseline, the REBA score when the executions carry REBA's (NaN if no
+    whole-body scores were given);
     ``duration``: mean execution time [s]; ``dropouts``: non-finite rows over all executions.
     """
 
@@ -99,22 +100,29 @@ class Calibration:
 
     @property
     def rula_scores(self) -> dict[str, float]:
+        """action -> G(a_k), the whole-body score held longest (RULA's grand score on RULA part scores)."""
         return {a: c.rula_grand for a, c in self.actions.items()}
+
+    @property
+    def grand_scores(self) -> dict[str, float]:
+        """action -> G(a_k) of the calibrated feature: RULA's grand score, or the REBA score."""
+        return self.rula_scores
 
     @property
     def eta(self) -> dict[str, int]:
         return {a: c.eta for a, c in self.actions.items()}
 
 
-def _check(ex, action: str, run: int) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+def _check(ex, action: str, run: int, joints: int | None) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
     where = f"calibration of {action!r}, execution {run}"
     try:
         g, dt, *rest = ex
     except (TypeError, ValueError):
-        raise RecordingError("execute(l) must return (g (n, 5), dt[, grand (n,)])", where=where) from None
+        raise RecordingError("execute(l) must return (g (n, m), dt[, grand (n,)])", where=where) from None
     g = np.asarray(g, dtype=float)
-    if g.ndim != 2 or g.shape[1] != _M or len(g) == 0:
-        raise RecordingError(f"G must have shape (n >= 1, {_M}), got {g.shape}", where=where)
+    if g.ndim != 2 or g.shape[1] < 1 or len(g) == 0 or (joints is not None and g.shape[1] != joints):
+        want = f"(n >= 1, {joints})" if joints is not None else "(n >= 1, m >= 1)"
+        raise RecordingError(f"G must have shape {want}, got {g.shape}", where=where)
     dts = np.broadcast_to(np.asarray(dt, dtype=float), (len(g),))
     if not np.all(np.isfinite(dts) & (dts > 0)):
         raise RecordingError(f"dt must be finite and > 0 s, got {dt!r}", where=where)
@@ -126,10 +134,11 @@ def _check(ex, action: str, run: int) -> tuple[np.ndarray, np.ndarray, np.ndarra
 
 def calibrate_action(execute: Callable[[int], Execution | tuple], params: KWearParams = KWearParams(), *,
                      v_des: float = 1e-3, eta0: int = 2, eta_max: int = 10,
-                     action: str = "") -> ActionCalibration:
+                     action: str = "", joints: int | None = None) -> ActionCalibration:
     """Adaptive-eta calibration of one action (paper §5).
 
-    execute(l) -> (g (n, 5), dt[, grand (n,)]) records execution l = 0, 1, ... from zero wear.
+    execute(l) -> (g (n, m), dt[, grand (n,)]) records execution l = 0, 1, ... from zero wear; every
+    execution has the same m joints, ``joints`` if given (5 for RULA's KWear, 6 for REBA's).
     v_des: target maximum prediction error Ṽ_des; eta0 >= 2 initial executions; eta_max the cap.
     G(a_k) is :func:`~ergosim.ergonomics.rula_action.action_grand_score` of the executions' grand scores.
     """
@@ -141,7 +150,7 @@ def calibrate_action(execute: Callable[[int], Execution | tuple], params: KWearP
     alphas, grands, durations, dropouts = [], [], [], 0
     while True:
         run = len(alphas)
-        g, dts, grand = _check(execute(run), action, run)
+        g, dts, grand = _check(execute(run), action, run, len(alphas[0]) if alphas else joints)
         alphas.append(alpha_of(g, dts, params))
         durations.append(float(dts.sum()))
         dropouts += int((~np.isfinite(g).all(axis=1)).sum())

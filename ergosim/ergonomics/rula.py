@@ -29,6 +29,7 @@ from ergosim.ergonomics.rula_parts import (
     wrist_twist_score,
 )
 from ergosim.ergonomics.rula_tables import TABLE_A, TABLE_B, TABLE_C
+from ergosim.ergonomics.scores import score_index
 
 __all__ = [
     "RulaThresholds",
@@ -90,24 +91,17 @@ trunk, legs."""
 
 
 # -- tables --
-def _index(name: str, value, hi: int) -> np.ndarray:
-    """Validate integer scores 1..hi and return zero-based int indices."""
-    v = np.asarray(value)
-    i = v.astype(np.int64) if v.dtype.kind in "iub" else np.rint(v).astype(np.int64)
-    if not (np.all(i == v) and np.all((i >= 1) & (i <= hi))):
-        raise ValueError(f"{name} must be an integer score 1..{hi}, got {value!r}")
-    return i - 1
 
 
 def table_a(upper_arm, lower_arm, wrist, wrist_twist):
     """Posture score A (1..9) from upper arm 1..6, lower arm 1..3, wrist 1..4, wrist twist 1..2."""
-    return TABLE_A[_index("upper_arm", upper_arm, 6), _index("lower_arm", lower_arm, 3),
-                   _index("wrist", wrist, 4), _index("wrist_twist", wrist_twist, 2)]
+    return TABLE_A[score_index("upper_arm", upper_arm, 6), score_index("lower_arm", lower_arm, 3),
+                   score_index("wrist", wrist, 4), score_index("wrist_twist", wrist_twist, 2)]
 
 
 def table_b(neck, trunk, legs):
     """Posture score B (1..9) from neck 1..6, trunk 1..6, legs 1..2."""
-    return TABLE_B[_index("neck", neck, 6), _index("trunk", trunk, 6), _index("legs", legs, 2)]
+    return TABLE_B[score_index("neck", neck, 6), score_index("trunk", trunk, 6), score_index("legs", legs, 2)]
 
 
 def table_c(score_a, score_b):
@@ -118,7 +112,7 @@ def table_c(score_a, score_b):
     """
     c = np.minimum(np.asarray(score_a), 8)
     d = np.minimum(np.asarray(score_b), 7)
-    return TABLE_C[_index("score_c", c, 8), _index("score_d", d, 7)]
+    return TABLE_C[score_index("score_c", c, 8), score_index("score_d", d, 7)]
 
 
 def action_level(grand):

@@ -32,7 +32,7 @@ def bench_repetition(scenario: str, mode: str = "hrc", seed: int = 0,
     sc = sc.with_overrides({"repetitions": str(repetitions), "modes": mode})
     cfg = sc.protocol
     subject = scenario_subject(sc, 0, seed)
-    calibration = _calibrate(sc, subject, np.random.default_rng([seed, 1]))[0]
+    calibration = _calibrate(sc, subject, np.random.default_rng([seed, 1]))[0]["rula"]
     rng = np.random.default_rng([seed, 2])
     rig = build_rig(sc, subject, rng, record_bodies=record, alphas=calibration.alphas)
     session = Session(cfg=cfg, mode=mode, subject_index=0, worker=rig.worker, plant=rig.plant,
@@ -111,7 +111,7 @@ def bench_video(scenario: str = "multi-subject", seed: int = 0, repeats: int = 3
     sc = load_scenario(scenario).with_overrides({"repetitions": "1", "modes": "hrc"})
     cfg = sc.protocol
     subject = scenario_subject(sc, 0, seed)
-    calibration = _calibrate(sc, subject, np.random.default_rng([seed, 1]))[0]
+    calibration = _calibrate(sc, subject, np.random.default_rng([seed, 1]))[0]["rula"]
     sims = {"off": [], "on": []}
     run = rig = None
     for _ in range(repeats):

@@ -1,7 +1,8 @@
 """What summary.json says about the subjects' calibration (paper §5): η, errors, α, G(a_k), loaded joints.
 
 Per subject as recorded, and per action over the subjects: ``rula_g_by_action`` is the median of the
-subjects' G(a_k) (:mod:`ergosim.ergonomics.rula_action`), ``most_loaded_joint_by_action`` the joint with the
+subjects' G(a_k) (:mod:`ergosim.ergonomics.rula_action`; ``reba_g_by_action`` the same on REBA when a mode
+reads REBA), ``most_loaded_joint_by_action`` the joint with the
 largest 1 - α_i for most subjects (ties: the first in ``KWEAR_JOINTS`` order), ``mtm_by_action`` the MTM-1
 analysis of the first subject's first execution.
 """
@@ -29,7 +30,13 @@ def calibration_summary(results: Sequence) -> dict:
         counts = Counter(m[a] for m in loaded)
         top = max(counts.values())
         by_action[a] = next(j for j in KWEAR_JOINTS if counts.get(j) == top)
+    reba = [r for r in results if getattr(r, "reba_g", None) is not None]
+    extra = {} if not reba else {  # a run whose modes read REBA: G(a_k) on REBA too
+        "reba_g_by_subject": [r.reba_g for r in reba],
+        "reba_g_by_action": {a: float(np.median([r.reba_g[a] for r in reba])) for a in actions},
+    }
     return {
+        **extra,
         "eta_by_subject": [r.eta for r in results],
         "max_error_by_subject": [r.calibration_errors for r in results],
         "rula_g_by_subject": [r.rula_g for r in results],

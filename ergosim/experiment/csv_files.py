@@ -70,13 +70,20 @@ def write_failures(path: Path, failures: Sequence[Failure]) -> None:
 
 
 def write_ticks(path: Path, runs: Sequence[SubjectRun]) -> None:
-    """ticks.csv: subject, mode, then :data:`TICK_COLUMNS` at the ergonomics rate (NaN = dropout)."""
+    """ticks.csv: subject, mode, then :data:`TICK_COLUMNS` at the ergonomics rate (NaN = dropout), then the
+    columns of any further posture feature a run's risk index read (REBA's, with ``kwear_legs``; NaN in the
+    rows of a mode without them)."""
+    columns = tuple(dict.fromkeys(c for run in runs for c in run.ticks.columns)) or TICK_COLUMNS
     with atomic_open(path, "w") as f:
-        f.write(",".join(("subject", "mode") + TICK_COLUMNS) + "\n")
+        f.write(",".join(("subject", "mode") + columns) + "\n")
         for run in sorted(runs, key=lambda r: (r.mode, r.subject)):
             rows = run.ticks.rows
             if rows.size == 0:
                 continue
+            if run.ticks.columns != columns:
+                full = np.full((len(rows), len(columns)), np.nan)
+                full[:, [columns.index(c) for c in run.ticks.columns]] = rows
+                rows = full
             buf = io.StringIO()
             # 9 significant digits keep KWear well below the 1e-6 used to compare with recordings.
             np.savetxt(buf, rows, fmt="%.9g", delimiter=",")

@@ -11,15 +11,18 @@ import logging
 
 import numpy as np
 
+from ergosim.ergonomics.features import feature as feature_spec
 from ergosim.ergonomics.kwear import KWearParams, kwear_trajectory
 from ergosim.ergonomics.risk_index import KWearIndex
 from ergosim.errors import ConfigError
 from ergosim.experiment.scenario import Scenario
+from ergosim.experiment.scenario_check import robot_refusals
 from ergosim.posture import KWEAR_JOINTS
 from ergosim.scenes import Workcell, build_cell
 from ergosim.twin.allocator import Allocator
 from ergosim.twin.calibration import SceneCalibration
 from ergosim.twin.durations import human_durations
+from ergosim.twin.features import FeatureScorer, cell_hold
 from ergosim.twin.loop import Plant
 from ergosim.twin.modes import IndexContext, get_mode, get_risk_index
 from ergosim.twin.records import SubjectRun
@@ -53,6 +56,8 @@ class SubjectResult:
     """The subject's KWear constants (C, r, ...; eq. 6-7)."""
     mtm: dict[str, str] = dataclasses.field(default_factory=dict)
     """action -> its MTM-1 analysis in the first calibration execution (ergosim.worker.action_timing)."""
+    reba_g: dict[str, float] | None = None
+    """action -> G(a_k) on REBA (the REBA score held longest), when a mode of the run reads REBA."""
 
 
 @dataclasses.dataclass
@@ -65,6 +70,9 @@ class Rig:
     worker: Worker
     robots: dict[str, RobotTrack]
     graph: object
+    refused: frozenset = frozenset()
+    """(action, robot) pairs a robot of the cell cannot do
+    (:func:`~ergosim.experiment.scenario_check.robot_refusals`)."""
 
     @property
     def robot(self) -> RobotTrack | None:
@@ -90,59 +98,99 @@ def _subject_in(cell: Workcell, subject: Subject) -> Subject:
     return subject if subject.handedness == hand else dataclasses.replace(subject, handedness=hand)
 
 
+def scenario_features(scenario: Scenario) -> tuple[str, ...]:
+    """The posture features the scenario's modes read: ``rula`` always, then e.g. ``reba``."""
+    extra = [get_risk_index(m.risk_index).features for m in map(get_mode, scenario.protocol.modes)
+             if m.risk_index is not None]
+    return tuple(dict.fromkeys(("rula", *extra)))
+
+
 def build_rig(scenario: Scenario, subject: Subject, rng: np.random.Generator, record_bodies: bool = False,
-              alphas=None) -> Rig:
+              alphas=None, feature: str = "rula") -> Rig:
+    """The subject's cell, plant and robots; the worker's online KWear reads ``feature`` (``alphas``: its
+    calibrated α per action on that feature); the worker's frames are scored with every feature the
+    scenario's modes read."""
     cfg = scenario.protocol
     sensing = cfg.sensing
     cell = subject_cell(scenario, subject)
     subject = _subject_in(cell, subject)
+    extra = [f for f in scenario_features(scenario) if f != "rula"]
     track = WorkerTrack.for_subject(subject, rng, rate=sensing.mocap_rate, dropout_rate=sensing.dropout_rate,
-                                    noise=sensing.noise_scale)
+                                    noise=sensing.noise_scale,
+                                    scorer=FeatureScorer(extra, cell_hold(cell)) if extra else None)
     kwear = KWearIndex(subject.kwear_params(), alphas or {},
-                       online_weight=cfg.calibration.online_alpha_weight)
+                       online_weight=cfg.calibration.online_alpha_weight,
+                       features=feature, joints=feature_spec(feature).joints)
     plant = Plant(cell, track, kwear, mocap_rate=sensing.mocap_rate,
                   ergonomics_rate=sensing.ergonomics_rate, physics_dt=sensing.physics_dt,
                   record_bodies=record_bodies)
     robots = {r: RobotTrack(cell, ee_speed=cfg.robot.ee_speed, transit_speed=cfg.robot.transit_speed, robot=r)
               for r in cell.robots}
     plant.robot = next(iter(robots.values()), None)
-    return Rig(cell, plant, track.worker, robots, scenario.task())
+    graph = scenario.task()
+    refused = frozenset(robot_refusals(graph, cell)) if robots else frozenset()
+    return Rig(cell, plant, track.worker, robots, graph, refused)
 
 
 def _calibrate(scenario: Scenario, subject: Subject, rng: np.random.Generator):
-    """Calibrate ``subject`` in the scenario's workcell; also return the first pass's KWear traces and MTM-1
-    analyses, and the mean duration of each action's executions [s] (the worker's expected durations)."""
+    """Calibrate ``subject`` in the scenario's workcell on every posture feature its modes read (feature ->
+    Calibration, ``rula`` first); also return the first pass's KWear traces and MTM-1 analyses, and the mean
+    duration of each action's executions [s] (the worker's expected durations), both from the RULA
+    calibration's passes."""
     sensing, calibration = scenario.protocol.sensing, scenario.protocol.calibration
     cell = subject_cell(scenario, subject)
     subject = _subject_in(cell, subject)
+    features = scenario_features(scenario)
     cal = SceneCalibration.for_subject(cell, subject, rng, mocap_rate=sensing.mocap_rate,
                                        ergonomics_rate=sensing.ergonomics_rate,
                                        actions=scenario.task().actions,
-                                       dropout_rate=sensing.dropout_rate, noise=sensing.noise_scale)
+                                       dropout_rate=sensing.dropout_rate, noise=sensing.noise_scale,
+                                       features=features)
     params = subject.kwear_params()
-    result = cal.run(params, eta0=calibration.eta0, eta_max=calibration.eta_max, v_des=calibration.v_des)
+    eta = {"eta0": calibration.eta0, "eta_max": calibration.eta_max, "v_des": calibration.v_des}
+    result = cal.run(params, **eta)
+    passes = list(cal.passes)  # the paper's (RULA) passes: what the durations and traces come from
+    others = {f: cal.run(params, **eta, feature=f)
+              for f in features if f != "rula" and feature_spec(f).whole is not None}
     traces = {}
-    for action, ex in cal.passes[0].items():
+    for action, ex in passes[0].items():
         v = kwear_trajectory(np.zeros(len(KWEAR_JOINTS)), ex.g, ex.dt, params)
         traces[action] = (np.arange(1, len(v) + 1) * cal.dt_tick, v)
-    return result, traces, dict(cal.mtm), human_durations(cal.passes)
+    return {"rula": result, **others}, traces, dict(cal.mtm), human_durations(passes)
+
+
+def _feature_of(mode_name: str) -> str:
+    """The posture feature the mode's online KWear (and its calibration) reads: its index's feature when
+    that is a part score (``rula``, ``reba``); ``rula`` otherwise (an index on raw joint angles runs beside
+    the paper's KWear, which stays what ticks.csv logs)."""
+    mode = get_mode(mode_name)
+    f = get_risk_index(mode.risk_index).features if mode.risk_index is not None else "rula"
+    return f if feature_spec(f).whole is not None else "rula"
 
 
 def make_allocator(scenario: Scenario, mode_name: str, rig: Rig, calibration) -> Allocator:
-    """The mode's risk index and cost rule (none for modes without one) on the rig's task graph."""
+    """The mode's risk index and cost rule (none for modes without one) on the rig's task graph.
+    ``calibration``: the subject's, per posture feature (a dict), or the paper's (RULA) alone."""
     cfg = scenario.protocol
     mode = get_mode(mode_name)
     index = cost = None
     if mode.risk_index is not None:
-        index, cost = get_risk_index(mode.risk_index).build(IndexContext(cfg, rig.plant.kwear, calibration))
-    return Allocator(rig.graph, mode, index=index, cost=cost, planner=cfg.planner, tie=cfg.tie_break)
+        entry = get_risk_index(mode.risk_index)
+        cal = calibration.get(_feature_of(mode_name)) if isinstance(calibration, dict) else calibration
+        index, cost = entry.build(IndexContext(cfg, rig.plant.kwear, cal))
+        if index is not rig.plant.kwear:
+            rig.plant.indices.append(index)  # a stateful index of its own is fed the plant's ticks too
+    return Allocator(rig.graph, mode, index=index, cost=cost, planner=cfg.planner, tie=cfg.tie_break,
+                     refused=rig.refused)
 
 
 def _session(scenario: Scenario, index: int, subject: Subject, mode: str, rng: np.random.Generator,
              calibration, record_bodies: bool = False, seed: int = 0,
              human_seconds: dict[str, float] | None = None) -> Session:
+    feature = _feature_of(mode)
+    cal = calibration.get(feature) if isinstance(calibration, dict) else calibration
     rig = build_rig(scenario, subject, rng, record_bodies=record_bodies,
-                    alphas=calibration.alphas if calibration is not None else None)
+                    alphas=cal.alphas if cal is not None else None, feature=feature)
     allocator = make_allocator(scenario, mode, rig, calibration)
     return make_session(scenario.protocol, rig=rig, allocator=allocator, mode=mode, subject=index, seed=seed,
                         rng=rng, human_seconds=human_seconds)
@@ -184,18 +232,21 @@ def run_subject(scenario: Scenario, index: int, seed: int, modes: tuple[str, ...
     subject = scenario_subject(scenario, index, seed)
     slots = tuple(range(len(modes))) if slots is None else tuple(slots)
     seqs = [np.random.SeedSequence([seed, index], spawn_key=(k,)) for k in (0, *(1 + s for s in slots))]
-    calibration, traces, mtm, seconds = _calibrate(scenario, subject, np.random.default_rng(seqs[0]))
-    log.debug("subject %d (%s): calibrated, η %s", index, subject.name, dict(calibration.eta))
+    calibrations, traces, mtm, seconds = _calibrate(scenario, subject, np.random.default_rng(seqs[0]))
+    log.debug("subject %d (%s): calibrated, η %s", index, subject.name, dict(calibrations["rula"].eta))
     runs: dict[str, SubjectRun] = {}
     for mode, seq in zip(modes, seqs[1:], strict=True):
-        session = _session(scenario, index, subject, mode, np.random.default_rng(seq), calibration,
+        session = _session(scenario, index, subject, mode, np.random.default_rng(seq), calibrations,
                            record_bodies=mode in recorded, seed=seed, human_seconds=seconds)
         runs[mode] = session.run(cfg.pacing.repetitions)
-        runs[mode].calibration_eta = calibration.eta
+        runs[mode].calibration_eta = calibrations[_feature_of(mode)].eta
+    calibration = calibrations["rula"]
+    reba = calibrations.get("reba")
     return SubjectResult(
         subject=index, name=subject.name, runs=runs, eta=calibration.eta,
         calibration_errors={a: float(c.max_error.max()) for a, c in calibration.actions.items()},
         alphas={a: [float(x) for x in c.alpha] for a, c in calibration.actions.items()},
         rula_g={a: float(c.rula_grand) for a, c in calibration.actions.items()},
         traces=traces, kwear_params=subject.kwear_params(), mtm=mtm,
+        reba_g=None if reba is None else {a: float(c.rula_grand) for a, c in reba.actions.items()},
     )

@@ -137,7 +137,7 @@ class Scenario:
         resolved = apply_cell_overrides(new.cell_doc, cell, where=f"{new.cell_source} (overrides)") \
             if cell else None
         new = dataclasses.replace(new, protocol=protocol, cell_overrides=cell, cell_resolved=resolved)
-        if new is not self and (groups["cell"] or groups["task"] or groups["refs"]):
+        if new is not self and (groups["cell"] or groups["task"] or groups["refs"] or own):
             from ergosim.experiment.scenario_check import check_scenario  # noqa: PLC0415
 
             check_scenario(new, new.task(), new.cell())  # a bad key or value fails now, before any physics

@@ -100,6 +100,8 @@ class SubjectRecord:
     rula_g: Mapping[str, float]
     runs: Mapping[str, RunRecord]
     mtm: Mapping[str, str] = dataclasses.field(default_factory=dict)
+    reba_g: Mapping[str, float] | None = None
+    """G(a_k) on REBA per action, when a mode of the run reads REBA (recorded only then)."""
 
     @classmethod
     def of(cls, result) -> SubjectRecord:
@@ -107,14 +109,15 @@ class SubjectRecord:
         return cls(subject=result.subject, name=result.name, eta=dict(result.eta),
                    calibration_errors=dict(result.calibration_errors), alphas=dict(result.alphas),
                    rula_g=dict(result.rula_g), runs={m: RunRecord.of(r) for m, r in result.runs.items()},
-                   mtm=dict(result.mtm))
+                   mtm=dict(result.mtm), reba_g=None if result.reba_g is None else dict(result.reba_g))
 
     def to_dict(self) -> dict[str, Any]:
         return {"subject": self.subject, "name": self.name, "eta": dict(self.eta),
                 "calibration_errors": {k: _enc(v) for k, v in self.calibration_errors.items()},
                 "alphas": {k: [_enc(x) for x in v] for k, v in self.alphas.items()},
                 "rula_g": {k: _enc(v) for k, v in self.rula_g.items()},
-                "runs": {m: r.to_dict() for m, r in self.runs.items()}, "mtm": dict(self.mtm)}
+                "runs": {m: r.to_dict() for m, r in self.runs.items()}, "mtm": dict(self.mtm),
+                **({} if self.reba_g is None else {"reba_g": {k: _enc(v) for k, v in self.reba_g.items()}})}
 
     @classmethod
     def from_dict(cls, doc: Mapping[str, Any]) -> SubjectRecord:
@@ -123,7 +126,8 @@ class SubjectRecord:
                    alphas={k: [float(_dec(x)) for x in v] for k, v in doc["alphas"].items()},
                    rula_g={k: float(_dec(v)) for k, v in doc["rula_g"].items()},
                    runs={m: RunRecord.from_dict(r) for m, r in doc["runs"].items()},
-                   mtm=dict(doc.get("mtm", {})))
+                   mtm=dict(doc.get("mtm", {})),
+                   reba_g={k: float(_dec(v)) for k, v in doc["reba_g"].items()} if "reba_g" in doc else None)
 
 
 def _enc(value: Any) -> Any:

@@ -174,6 +174,8 @@ def summary_of(scenario: str, seed: int, config: Mapping[str, Any], records: Seq
     actions = sorted(records[0].alphas) if records else []
     summary = summarise(scenario, seed, modes, actions=actions, complete=complete, extra=extra)
     summary["rula_g_by_action"] = extra["calibration"]["rula_g_by_action"]  # G(a_k) per action, over subjects
+    if "reba_g_by_action" in extra["calibration"]:
+        summary["reba_g_by_action"] = extra["calibration"]["reba_g_by_action"]
     abandoned = sum(m["repetitions_abandoned"] for m in summary["modes"].values())
     summary["status"] = "abandoned" if status == "complete" and abandoned else status
     summary["complete"] = complete and not abandoned

@@ -86,6 +86,11 @@ def summary_text(summary: dict, cfg) -> str:
         if any(loads.values()):
             lines.append(f"{label}: " + "; ".join(
                 f"{mode} mean {sum(v) / len(v):.1f}" for mode, v in loads.items() if v))
+    reba = summary.get("reba_g_by_action")
+    if reba:  # a mode read REBA: its G(a_k) beside RULA's
+        rula = summary.get("rula_g_by_action", {})
+        lines.append("G(a_k), RULA grand / REBA score (median over subjects): " + "  ".join(
+            f"{a} {rula.get(a, float('nan')):g}/{g:g}" for a, g in reba.items()))
     tests = summary.get("wilcoxon_by_metric") or {"kwear_integral": summary.get("wilcoxon") or {}}
     for w in tests.values():
         if w.get("p") is not None:

@@ -5,7 +5,7 @@ geoms are capsules with ``contype=0 conaffinity=0``: the human is driven kinemat
 robot or a part (a held part is attached by a weld made by the scene, see ``Workcell.grasp``). Every body has
 ``gravcomp="1"`` and the hinges are damped so that a physics step between two mocap frames leaves the human
 where the stream put it. Default classes are prefixed ``human_`` so that the human can be attached into a
-scene that already has ``visual``/``collision`` classes (the Panda's) without a name clash.
+scene that already has ``visual``/``collision`` classes (a robot's) without a name clash.
 """
 
 from __future__ import annotations

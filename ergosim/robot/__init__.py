@@ -1,20 +1,25 @@
-"""The Panda: MJCF built from example-robot-data's URDF, pinocchio kinematics, IK, trajectories, and skills
-planned as timed programs (skill_motion, skill_plan, skill_program), stepped by an executor (skill_exec)."""
+"""Robots: the :class:`RobotModel` contract and its registry (the bundled robots come from
+example-robot-data, each in its own module), MJCF built from the URDF, pinocchio kinematics, IK,
+trajectories, and skills planned as timed programs (skill_motion, skill_plan, skill_program), stepped by an
+executor (skill_exec)."""
 
-from ergosim.robot.assets import panda_description_dir, panda_mesh_dir, panda_urdf
+from ergosim.robot import panda as _first  # noqa: F401  (register the bundled robots)
+from ergosim.robot import ur5 as _second  # noqa: F401
+from ergosim.robot.assets import erd_file, erd_share, resolve_url
 from ergosim.robot.ik import IKResult, pose_error, solve_ik
-from ergosim.robot.kinematics import TCP_FRAME, PandaKinematics
-from ergosim.robot.mjcf import (
-    ARM_ACTUATORS,
-    ARM_JOINTS,
-    FINGER_JOINTS,
-    GRIPPER_ACTUATOR,
-    HOME_QPOS,
-    TCP_SITE,
-    PandaGains,
-    panda_xml,
+from ergosim.robot.kinematics import ArmKinematics
+from ergosim.robot.mjcf import ArmActuation, GripperActuation, MjcfRecipe, RobotFiles, robot_mjcf
+from ergosim.robot.model import MODELS_DIR, compile_spec, load_mjcf, model_dir, robot_files, robot_spec
+from ergosim.robot.robot_model import (
+    AddedFrame,
+    Gripper,
+    Mount,
+    RobotModel,
+    default_robot,
+    get_robot,
+    register_robot,
+    robot_names,
 )
-from ergosim.robot.model import compile_spec, load_mjcf, panda_mjcf_text, panda_spec
 from ergosim.robot.skill_motion import Motion, MotionPlanner, Waypoint
 from ergosim.robot.skill_plan import CarryGoal, CarryPlan, CarryPlanner, RobotView
 from ergosim.robot.skill_program import SkillProgram
@@ -24,8 +29,6 @@ from ergosim.robot.status import SKILL_PHASES, SkillResult, SkillStatus
 from ergosim.robot.time_scaling import speed_profile, trapezoid
 from ergosim.robot.trajectory import (
     CONTACT_SPEED,
-    PANDA_MAX_ROTATION,
-    PANDA_MAX_ROTATION_ACCEL,
     SEGMENT_KINDS,
     TRANSIT_SPEED,
     BaseFrame,
@@ -41,30 +44,36 @@ from ergosim.robot.trajectory import (
 from ergosim.robot.urdf import Urdf, read_urdf
 
 __all__ = [
+    "RobotModel",
+    "Gripper",
+    "Mount",
+    "AddedFrame",
+    "register_robot",
+    "robot_names",
+    "get_robot",
+    "default_robot",
     "SSMParams",
     "allowed_speed",
     "protective_distance",
     "speed_scale",
-    "panda_description_dir",
-    "panda_mesh_dir",
-    "panda_urdf",
+    "erd_share",
+    "erd_file",
+    "resolve_url",
     "IKResult",
     "pose_error",
     "solve_ik",
-    "TCP_FRAME",
-    "PandaKinematics",
-    "ARM_ACTUATORS",
-    "ARM_JOINTS",
-    "FINGER_JOINTS",
-    "GRIPPER_ACTUATOR",
-    "HOME_QPOS",
-    "TCP_SITE",
-    "PandaGains",
-    "panda_xml",
+    "ArmKinematics",
+    "ArmActuation",
+    "GripperActuation",
+    "MjcfRecipe",
+    "RobotFiles",
+    "robot_mjcf",
+    "MODELS_DIR",
+    "model_dir",
+    "robot_files",
+    "robot_spec",
     "compile_spec",
     "load_mjcf",
-    "panda_mjcf_text",
-    "panda_spec",
     "Motion",
     "MotionPlanner",
     "Waypoint",
@@ -83,8 +92,6 @@ __all__ = [
     "SkillResult",
     "SkillStatus",
     "CONTACT_SPEED",
-    "PANDA_MAX_ROTATION",
-    "PANDA_MAX_ROTATION_ACCEL",
     "SEGMENT_KINDS",
     "TRANSIT_SPEED",
     "SpeedLimit",

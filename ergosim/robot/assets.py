@@ -1,7 +1,9 @@
-"""Locate the Panda description shipped by the installed ``example-robot-data`` package.
+"""Locate robot descriptions shipped by the installed ``example-robot-data`` package.
 
 The package has no Python module: its files live under ``site-packages/cmeel.prefix/share/example-robot-data``
-and are found through the installed distribution's file list, so nothing is downloaded or copied.
+and are found through the installed distribution's file list, so nothing is downloaded or copied at run
+time. A URDF names its meshes by ``package://example-robot-data/...`` URLs; :func:`resolve_url` maps
+them to files.
 """
 
 from __future__ import annotations
@@ -12,42 +14,41 @@ from pathlib import Path
 
 from ergosim.errors import ModelError
 
-__all__ = ["PANDA_SUBDIR", "panda_description_dir", "panda_urdf", "panda_mesh_dir", "panda_license"]
+__all__ = ["erd_share", "erd_file", "resolve_url"]
 
-PANDA_SUBDIR = "robots/panda_description"
+_PACKAGE = "example-robot-data"
+_SHARE = "share/example-robot-data/"
 
 
 @functools.cache
-def _erd_share() -> Path:
+def erd_share() -> Path:
+    """Absolute path of the installed ``.../share/example-robot-data`` directory."""
     try:
-        files = importlib.metadata.files("example-robot-data")
+        files = importlib.metadata.files(_PACKAGE)
     except importlib.metadata.PackageNotFoundError:
         raise ModelError("the example-robot-data package is not installed; pip install example-robot-data",
                          where="ergosim.robot.assets") from None
     for f in files or ():
         s = str(f).replace("\\", "/")
-        if s.endswith(f"{PANDA_SUBDIR}/urdf/panda.urdf"):
-            root = Path(f.locate()).resolve().parents[3]
+        if _SHARE in s and s.endswith(".urdf"):
+            path = Path(f.locate()).resolve()
+            root = path.parents[len(Path(s.split(_SHARE, 1)[1]).parts) - 1]
             if root.is_dir():
                 return root
-    raise ModelError("example-robot-data is installed but ships no robots/panda_description/urdf/panda.urdf",
+    raise ModelError("example-robot-data is installed but ships no URDF under share/example-robot-data",
                      where="ergosim.robot.assets")
 
 
-def panda_description_dir() -> Path:
-    """Absolute path of ``.../share/example-robot-data/robots/panda_description``."""
-    return _erd_share() / PANDA_SUBDIR
+def erd_file(relative: str) -> Path:
+    """``relative`` (e.g. ``robots/ur_description/urdf/ur5_gripper.urdf``) under :func:`erd_share`; ModelError
+    if the installed package has no such file."""
+    path = erd_share() / relative
+    if not path.is_file():
+        raise ModelError(f"example-robot-data has no {relative}", where="ergosim.robot.assets")
+    return path
 
 
-def panda_urdf() -> Path:
-    """The Panda URDF (7 arm joints, hand, two prismatic fingers, ``panda_hand_tcp`` frame)."""
-    return panda_description_dir() / "urdf" / "panda.urdf"
-
-
-def panda_mesh_dir() -> Path:
-    """Directory of the collision STL meshes (also used, coloured, as visual meshes: MuJoCo reads no .dae)."""
-    return panda_description_dir() / "meshes" / "collision"
-
-
-def panda_license() -> Path:
-    return panda_description_dir() / "LICENSE"
+def resolve_url(url: str) -> Path:
+    """The file a URDF's ``package://example-robot-data/<relative>`` URL names (a plain path passes)."""
+    prefix = f"package://{_PACKAGE}/"
+    return erd_file(url[len(prefix):]) if url.startswith(prefix) else Path(url)

@@ -15,12 +15,13 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from collections.abc import Generator, Iterator
+from dataclasses import replace
 
 import mujoco
 import numpy as np
 
 from ergosim.robot import skill_program as sp
-from ergosim.robot.kinematics import PandaKinematics
+from ergosim.robot.kinematics import ArmKinematics
 from ergosim.robot.skill_motion import Motion, MotionPlanner
 from ergosim.robot.skill_params import SkillParams
 from ergosim.robot.skill_plan import CarryPlanner, RobotView
@@ -41,13 +42,14 @@ class Skill(ABC):
 
     name = "skill"
 
-    def __init__(self, workcell, part: str, kin: PandaKinematics | None = None,
+    def __init__(self, workcell, part: str, kin: ArmKinematics | None = None,
                  params: SkillParams = SkillParams(), robot: str | None = None) -> None:
         self.wc = workcell
         handle = workcell.robot(robot)
         self.holder = handle.name  # the holder name of the robot (its task agent)
         self.part = part
-        self.kin = kin or PandaKinematics()
+        self.kin = kin or ArmKinematics(handle.robot, workcell.robot_home(handle.name))
+        params = replace(params, limits=params.limits.for_robot(handle.robot))
         self.params = params
         self.dt = float(workcell.model.opt.timestep)
         self.robot = RobotView(workcell, handle)

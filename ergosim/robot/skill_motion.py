@@ -15,7 +15,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ergosim.robot.ik import solve_ik
-from ergosim.robot.kinematics import PandaKinematics
+from ergosim.robot.kinematics import ArmKinematics
 from ergosim.robot.skill_params import SkillParams
 from ergosim.robot.trajectory import BaseFrame, PathError, Pose, line_trajectory, transit_trajectory
 
@@ -85,7 +85,7 @@ class MotionPlanner:
     """Plans one robot's moves: ``kin`` its kinematics (limits, home pose), ``base`` its base frame in the
     world, ``params`` the skill parameters (speed caps in ``params.limits``), ``dt`` the physics step [s]."""
 
-    def __init__(self, kin: PandaKinematics, base: BaseFrame, params: SkillParams, dt: float) -> None:
+    def __init__(self, kin: ArmKinematics, base: BaseFrame, params: SkillParams, dt: float) -> None:
         self.kin = kin
         self.base = base
         self.params = params
@@ -110,7 +110,7 @@ class MotionPlanner:
             traj = None
             label = "contact" if way.kind == "contact" else (phase or way.kind)
             if way.mode == "joint":
-                res = solve_ik(self.kin, goal.pos, goal.rot, self.kin.home, seeds=[q, *self._wrist_seeds(q)])
+                res = solve_ik(self.kin, goal.pos, goal.rot, self.kin.ready, seeds=[q, *self._wrist_seeds(q)])
                 if not res.ok:
                     raise PathError(f"no IK solution at {np.round(goal.pos, 3).tolist()} (base frame), "
                                     f"{res.pos_error * 1000:.0f} mm and {res.rot_error_deg:.0f} deg short",

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ergosim.quat import to_mat
-from ergosim.robot.handle import PandaHandle
+from ergosim.robot.handle import RobotHandle
 from ergosim.robot.skill_motion import UP, Motion, MotionPlanner, Waypoint, is_up
 from ergosim.robot.trajectory import BaseFrame, PathError, Pose
 
@@ -30,7 +30,7 @@ class RobotView:
     """One robot of a cell as the skills read it: ``handle`` its indices, ``base`` its base frame (world),
     ``pads`` per finger the geoms that touch, ``gripper_open`` the widest opening per finger [m]."""
 
-    def __init__(self, cell, handle: PandaHandle) -> None:
+    def __init__(self, cell, handle: RobotHandle) -> None:
         m = cell.model
         self.cell = cell
         self.handle = handle

@@ -15,7 +15,7 @@ from collections.abc import Callable
 import numpy as np
 
 from ergosim.quat import to_mat
-from ergosim.robot.kinematics import PandaKinematics
+from ergosim.robot.kinematics import ArmKinematics
 from ergosim.robot.skill_exec import Skill
 from ergosim.robot.skill_motion import UP
 from ergosim.robot.skill_params import SkillParams
@@ -64,7 +64,7 @@ class PickPlace(_Carrying):
     name = "pick_place"
 
     def __init__(self, workcell, part: str, target_pos, target_quat, *, approach=None, seat: bool = False,
-                 hold: float = 0.0, receive: bool = False, kin: PandaKinematics | None = None,
+                 hold: float = 0.0, receive: bool = False, kin: ArmKinematics | None = None,
                  params: SkillParams = SkillParams(), robot: str | None = None) -> None:
         super().__init__(workcell, part, kin, params, robot)
         self.target = Pose(np.asarray(target_pos, dtype=float), to_mat(target_quat))
@@ -120,7 +120,7 @@ class Handover(_Carrying):
     name = "handover"
 
     def __init__(self, workcell, part: str, pos, quat, taken: Callable[[object], bool] | None = None, *,
-                 kin: PandaKinematics | None = None, params: SkillParams = SkillParams(),
+                 kin: ArmKinematics | None = None, params: SkillParams = SkillParams(),
                  robot: str | None = None) -> None:
         super().__init__(workcell, part, kin, params, robot)
         self.target = Pose(np.asarray(pos, dtype=float), to_mat(quat))

@@ -18,6 +18,8 @@ too. Frames: the robot base frame (see :class:`BaseFrame` for world conversions)
 
 from __future__ import annotations
 
+import dataclasses
+import math
 from dataclasses import dataclass
 from typing import NamedTuple
 
@@ -25,11 +27,11 @@ import numpy as np
 import pinocchio as pin
 
 from ergosim.robot.ik import solve_ik
-from ergosim.robot.kinematics import PandaKinematics
+from ergosim.robot.kinematics import ArmKinematics
 from ergosim.robot.time_scaling import speed_profile, trapezoid
 
-__all__ = ["SEGMENT_KINDS", "CONTACT_SPEED", "TRANSIT_SPEED", "PANDA_MAX_ROTATION",
-           "PANDA_MAX_ROTATION_ACCEL", "SpeedLimit", "MotionLimits", "Pose", "BaseFrame", "PathError",
+__all__ = ["SEGMENT_KINDS", "CONTACT_SPEED", "TRANSIT_SPEED", "SpeedLimit", "MotionLimits", "Pose",
+           "BaseFrame", "PathError",
            "line_trajectory", "segment_trajectory", "joint_trajectory", "transit_trajectory", "trapezoid"]
 
 SEGMENT_KINDS = ("contact", "transit")
@@ -39,10 +41,6 @@ CONTACT_SPEED = 0.05
 """Contact-critical TCP speed [m/s]: the paper's conservative 0.05 m/s (§7.2)."""
 TRANSIT_SPEED = 0.25
 """Free-space TCP speed [m/s]: ISO 10218-1:2011 §5.6 reduced speed, TCP at most 250 mm/s."""
-PANDA_MAX_ROTATION = 2.5
-"""The Panda's Cartesian rotation limit [rad/s] (libfranka rate_limiting.h, kMaxRotationalVelocity)."""
-PANDA_MAX_ROTATION_ACCEL = 25.0
-"""The Panda's Cartesian rotational acceleration limit [rad/s^2] (libfranka, kMaxRotationalAcceleration)."""
 
 
 class SpeedLimit(NamedTuple):
@@ -62,7 +60,8 @@ class MotionLimits:
     ``speed``/``accel``/``angular_speed``: contact-critical segments [m/s, m/s^2, rad/s];
     ``transit_speed``/``transit_accel``: free-space transits, whose angular speed is capped so that a point
     ``sweep_radius`` [m] from the TCP moves and accelerates at most at ``transit_speed`` and
-    ``transit_accel`` (and within the Panda's :data:`PANDA_MAX_ROTATION`, :data:`PANDA_MAX_ROTATION_ACCEL`);
+    ``transit_accel`` (and within the robot's Cartesian limits ``max_rotation`` [rad/s] and
+    ``max_rotation_accel`` [rad/s^2], :meth:`for_robot`);
     a contact-critical rotation ramps up in the same time as the contact speed. Joints use at most
     ``joint_speed_fraction`` of their URDF velocity limits; ``sample`` [m] and ``sample_angle`` [rad] between
     IK solutions of a straight segment; ``max_joint_step`` [rad] largest joint change between two samples (a
@@ -72,12 +71,20 @@ class MotionLimits:
     accel: float = 0.25  # assumed: a 0.2 s ramp to the contact speed
     angular_speed: float = 0.5  # assumed
     transit_speed: float = TRANSIT_SPEED  # ISO 10218-1:2011 §5.6 reduced speed, <= 250 mm/s
-    transit_accel: float = 1.0  # assumed; Panda limit 13 m/s^2 (libfranka kMaxTranslationalAcceleration)
+    transit_accel: float = 1.0  # assumed; well within the bundled robots' limits
     sweep_radius: float = 0.25  # assumed: the hand and a held part (profiles 0.3 m, held mid-way) lie within
     joint_speed_fraction: float = 0.8
     sample: float = 0.01
     sample_angle: float = 0.05
     max_joint_step: float = 0.2
+    max_rotation: float = math.inf
+    max_rotation_accel: float = math.inf
+
+    def for_robot(self, robot) -> MotionLimits:
+        """These limits within ``robot``'s (a :class:`~ergosim.robot.robot_model.RobotModel`) Cartesian
+        rotation limits."""
+        return dataclasses.replace(self, max_rotation=robot.max_rotation,
+                                   max_rotation_accel=robot.max_rotation_accel)
 
     def limit(self, kind: str) -> SpeedLimit:
         """The TCP caps of a ``kind`` segment (one of :data:`SEGMENT_KINDS`)."""
@@ -86,8 +93,8 @@ class MotionLimits:
                               self.accel * self.angular_speed / self.speed)
         if kind == "transit":
             return SpeedLimit(self.transit_speed, self.transit_accel,
-                              min(self.transit_speed / self.sweep_radius, PANDA_MAX_ROTATION),
-                              min(self.transit_accel / self.sweep_radius, PANDA_MAX_ROTATION_ACCEL))
+                              min(self.transit_speed / self.sweep_radius, self.max_rotation),
+                              min(self.transit_accel / self.sweep_radius, self.max_rotation_accel))
         raise ValueError(f"segment kind must be one of {', '.join(SEGMENT_KINDS)}, got {kind!r}")
 
 
@@ -135,7 +142,7 @@ def _timed(knots: np.ndarray, times: np.ndarray, lengths: np.ndarray, angles: np
     return speed_profile(ds, caps, acc, dt)
 
 
-def _line_ik(kin: PandaKinematics, q_start: np.ndarray, start: Pose, goal: Pose, rot_log: np.ndarray,
+def _line_ik(kin: ArmKinematics, q_start: np.ndarray, start: Pose, goal: Pose, rot_log: np.ndarray,
              knots: np.ndarray, limits: MotionLimits) -> tuple[np.ndarray, np.ndarray]:
     """IK along the line at ``knots`` (warm-started knot to knot): the knots used and (n, 7) solutions.
 
@@ -152,7 +159,7 @@ def _line_ik(kin: PandaKinematics, q_start: np.ndarray, start: Pose, goal: Pose,
         # intermediate knots of a transit need not be exact (1 mm, 0.5 deg); the segment's end does
         loose = s < 1.0
         tol = dict(tol_pos=1e-3 if loose else 2e-4, tol_rot_deg=0.5 if loose else 0.05)
-        res = solve_ik(kin, pos, rot, qs[-1], q_pref=kin.home, max_iter=100, **tol)
+        res = solve_ik(kin, pos, rot, qs[-1], q_pref=kin.ready, max_iter=100, **tol)
         if not res.ok:  # the pull towards home can pin a joint at its limit near the workspace's edge
             res = solve_ik(kin, pos, rot, qs[-1], q_pref=qs[-1], max_iter=100, **tol)
         if not res.ok:
@@ -172,7 +179,7 @@ def _line_ik(kin: PandaKinematics, q_start: np.ndarray, start: Pose, goal: Pose,
     return np.array(done), np.array(qs)
 
 
-def line_trajectory(kin: PandaKinematics, q_start: np.ndarray, start: Pose, goal: Pose, limits: MotionLimits,
+def line_trajectory(kin: ArmKinematics, q_start: np.ndarray, start: Pose, goal: Pose, limits: MotionLimits,
                     dt: float, kind: str = "contact", slow_first: float = 0.0,
                     slow_last: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
     """(n, 7) joint targets [rad], one per physics step, moving the TCP straight from ``start`` to ``goal``
@@ -214,14 +221,14 @@ def line_trajectory(kin: PandaKinematics, q_start: np.ndarray, start: Pose, goal
     return traj, in_slow
 
 
-def segment_trajectory(kin: PandaKinematics, q_start: np.ndarray, start: Pose, goal: Pose,
+def segment_trajectory(kin: ArmKinematics, q_start: np.ndarray, start: Pose, goal: Pose,
                        limits: MotionLimits, dt: float, kind: str = "contact") -> np.ndarray:
     """(n, 7) joint targets [rad], one per physics step, moving the TCP straight from ``start`` to ``goal``
     (base frame) within the caps of a ``kind`` segment (:func:`line_trajectory` with one speed)."""
     return line_trajectory(kin, q_start, start, goal, limits, dt, kind)[0]
 
 
-def joint_trajectory(q_start: np.ndarray, q_goal: np.ndarray, kin: PandaKinematics, limits: MotionLimits,
+def joint_trajectory(q_start: np.ndarray, q_goal: np.ndarray, kin: ArmKinematics, limits: MotionLimits,
                      dt: float) -> np.ndarray:
     """(n, 7) joint-space move (same trapezoid shape for every joint) at a quarter of the joint velocity
     limits used elsewhere; the TCP speed is not capped (:func:`transit_trajectory` caps it)."""
@@ -233,7 +240,7 @@ def joint_trajectory(q_start: np.ndarray, q_goal: np.ndarray, kin: PandaKinemati
     return np.asarray(q_start) + s[:, None] * delta
 
 
-def transit_trajectory(kin: PandaKinematics, q_start: np.ndarray, q_goal: np.ndarray, limits: MotionLimits,
+def transit_trajectory(kin: ArmKinematics, q_start: np.ndarray, q_goal: np.ndarray, limits: MotionLimits,
                        dt: float, kind: str = "transit", samples: int = 40) -> tuple[np.ndarray, float]:
     """(n, 7) joint-space move from ``q_start`` to ``q_goal`` timed along the TCP's own path (not a straight
     line) so that its speed and angular speed stay within the caps of a ``kind`` segment and every joint

@@ -1,6 +1,6 @@
 """A small reader for the parts of a URDF the MJCF builder needs: links (inertia, mesh) and joints.
 
-Only what example-robot-data's Panda uses is read (revolute, prismatic and fixed joints; mesh and box
+Only what example-robot-data's robots use is read (revolute, prismatic and fixed joints; mesh and box
 geometry). Anything malformed is a :class:`~ergosim.errors.ModelError` naming the element.
 """
 
@@ -46,12 +46,14 @@ class Inertial:
 
 @dataclass(frozen=True)
 class Shape:
-    """A visual or collision geometry: ``kind`` "mesh" (``mesh`` = file stem) or "box" (``size`` full [m])."""
+    """A visual or collision geometry: ``kind`` "mesh" (``mesh`` = file stem, ``file`` the URDF's filename,
+    e.g. a ``package://`` URL) or "box" (``size`` full [m])."""
 
     kind: str
     origin: Origin
     mesh: str = ""
     size: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    file: str = ""
 
 
 @dataclass(frozen=True)
@@ -127,7 +129,8 @@ def _shape(el: ET.Element, where: str) -> Shape | None:
     origin = _origin(el.find("origin"), where)
     mesh, box = geo.find("mesh"), geo.find("box")
     if mesh is not None:
-        return Shape("mesh", origin, mesh=Path(mesh.get("filename", "")).stem)
+        filename = mesh.get("filename", "")
+        return Shape("mesh", origin, mesh=Path(filename).stem, file=filename)
     if box is not None:
         return Shape("box", origin, size=_floats(box.get("size"), 3, where))
     return None

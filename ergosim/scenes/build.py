@@ -1,4 +1,4 @@
-"""Building blocks of every workcell: the empty scene, furniture, the Panda, the human, the welds.
+"""Building blocks of every workcell: the empty scene, furniture, the robots, the human, the welds.
 
 Every weld a run may need is declared here, inactive: one per (holder, part) and one per part seated in a
 slot. :class:`~ergosim.scenes.workcell.Workcell` switches them on with the relative pose of that moment.
@@ -17,13 +17,14 @@ from ergosim.human.mjcf import HOME_POSTURE
 from ergosim.human.mocap import add_mocap_segments
 from ergosim.human.model import HAND_SITES, ROOT_BODY, HumanModel, human_spec
 from ergosim.quat import from_yaw_deg
-from ergosim.robot.handle import PandaHandle
-from ergosim.robot.mjcf import HOME_QPOS
-from ergosim.robot.model import compile_spec, panda_spec
+from ergosim.robot.handle import RobotHandle
+from ergosim.robot.model import compile_spec, robot_spec
+from ergosim.robot.robot_model import RobotModel
 from ergosim.scenes.cellspec import Surface, Worker
+from ergosim.scenes.park import ParkChoice, ParkRule, choose_park, robot_geoms
 
 __all__ = ["weld_name", "seat_name", "receive_name", "new_spec", "add_table", "add_box",
-           "attach_panda", "attach_human", "add_welds", "human_hand_bodies", "finish"]
+           "attach_robot", "attach_human", "add_welds", "human_hand_bodies", "finish", "quiet_attach"]
 
 WOOD = (0.72, 0.6, 0.45, 1.0)
 METAL = (0.45, 0.47, 0.5, 1.0)
@@ -43,7 +44,7 @@ def receive_name(part: str) -> str:
 
 
 @contextlib.contextmanager
-def _quiet_attach() -> Iterator[None]:
+def quiet_attach() -> Iterator[None]:
     """Attach with an empty prefix (names must stay canonical) without MuJoCo's save-related warning."""
     previous = mujoco.get_mju_user_warning()
     other: list[str] = []
@@ -106,22 +107,26 @@ def add_table(spec: mujoco.MjSpec, surface: Surface, thickness: float = 0.04, le
             add_box(spec, f"{surface.name}_leg{i}", centre, (0.02, 0.02, leg_h))
 
 
-def attach_panda(spec: mujoco.MjSpec, base, yaw: float, timestep: float,
+def attach_robot(spec: mujoco.MjSpec, robot: RobotModel, base, yaw: float, timestep: float,
                  support_height: float | None = None, prefix: str = "") -> None:
-    """The Panda's ``panda_link0`` at ``base`` (3,) [m] turned by ``yaw`` [deg]; a pedestal fills any gap down
-    to ``support_height`` [m]. ``prefix`` goes before every name of this Panda (a cell's second robot:
-    ``robot2.``; the first keeps the MJCF's names, :func:`~ergosim.robot.handle.robot_prefix`)."""
+    """``robot``'s base body at ``base`` (3,) [m] turned by ``yaw`` [deg]; a pedestal (``robot.mount``) fills
+    any gap down to ``support_height`` [m]. ``prefix`` goes before every name of this robot (a cell's second
+    robot: ``robot2.``; the first keeps the MJCF's names, :func:`~ergosim.robot.handle.robot_prefix`)."""
     x, y, z = base
+    mount = robot.mount
     if support_height is not None and z - support_height > 0.005:
         half = (z - support_height) / 2
-        add_box(spec, f"{prefix}robot_pedestal", (x - 0.04, y, support_height + half), (0.13, 0.11, half))
+        add_box(spec, f"{prefix}robot_pedestal", (x + mount.offset_x, y, support_height + half),
+                (*mount.pedestal, half))
     frame = spec.worldbody.add_frame(name=f"{prefix}robot_base", pos=list(base), quat=from_yaw_deg(yaw))
-    panda = panda_spec()
-    panda.option.timestep = timestep  # the scene's options win; equal values avoid a conflict notice
-    with _quiet_attach():
-        frame.attach_body(panda.body("panda_link0"), prefix, "")
+    arm = robot_spec(robot)
+    for key, blob in arm.assets.items():
+        spec.assets[key] = blob
+    arm.option.timestep = timestep  # the scene's options win; equal values avoid a conflict notice
+    with quiet_attach():
+        frame.attach_body(arm.body(robot.base), prefix, "")
     # the first link turns just above its mount: its hull would only ever graze the support it stands on
-    spec.add_exclude(bodyname1="world", bodyname2=f"{prefix}panda_link1")
+    spec.add_exclude(bodyname1="world", bodyname2=f"{prefix}{mount.link}")
 
 
 def attach_human(spec: mujoco.MjSpec, worker: Worker) -> mujoco.MjModel:
@@ -136,7 +141,7 @@ def attach_human(spec: mujoco.MjSpec, worker: Worker) -> mujoco.MjModel:
     kin_spec.compiler.degree = False
     frame = kin_spec.worldbody.add_frame(name="worker", pos=[*worker.xy, 0.0], quat=from_yaw_deg(worker.yaw))
     human = human_spec(worker.stature, dict(worker.human_scale), keyframe=None)
-    with _quiet_attach():
+    with quiet_attach():
         frame.attach_body(human.body(ROOT_BODY), "", "")
         kin = compile_spec(kin_spec, where="human")
     data = mujoco.MjData(kin)
@@ -169,23 +174,40 @@ def human_hand_bodies(spec: mujoco.MjSpec) -> dict[str, str]:
     return out
 
 
-def finish(spec: mujoco.MjSpec, where: str, robots: tuple[tuple[str, str], ...] = ()) -> mujoco.MjModel:
-    """Replace attached keyframes by one ``home`` (every robot of ``robots``, (name, prefix) pairs, ready with
-    its fingers open; parts laid out; the human's mocap segments keep their home posture) and compile."""
+def finish(spec: mujoco.MjSpec, where: str, robots: tuple[tuple[str, str, RobotModel, float], ...] = ()
+           ) -> tuple[mujoco.MjModel, dict[str, ParkChoice]]:
+    """Replace attached keyframes by one ``home`` and compile: every robot of ``robots`` ((name, prefix,
+    model, park clearance [m]) tuples) parked for the worker (:func:`~ergosim.scenes.park.choose_park`, in
+    order, each seeing the ones before) with its fingers open; parts laid out; the human's mocap segments
+    keep their home posture. Returns the model and each robot's park choice."""
     for key in list(spec.keys):
         spec.delete(key)
-    with _quiet_attach():
+    key = spec.add_key(name="home")  # filled in the compiled model: one compile, not two
+    with quiet_attach():
         model = compile_spec(spec, where=where)
+    data = mujoco.MjData(model)
     qpos = model.qpos0.copy()
     ctrl = np.zeros(model.nu)
-    for name, prefix in robots:
-        robot = PandaHandle.find(model, name, prefix)
-        qpos[robot.arm_qpos] = HOME_QPOS
+    handles = [(RobotHandle.find(model, name, prefix, kind), clearance)
+               for name, prefix, kind, clearance in robots]
+    for robot, _ in handles:
+        qpos[robot.arm_qpos] = robot.robot.home
         for adr, j in zip(robot.finger_qpos, robot.finger_joints, strict=True):
             qpos[adr] = model.jnt_range[j][1]
-        ctrl[robot.arm_ctrl] = HOME_QPOS
+    parks = {}
+    for i, (robot, clearance) in enumerate(handles):
+        data.qpos[:] = qpos
+        mujoco.mj_kinematics(model, data)
+        others = [g for other, _ in handles[:i] + handles[i + 1:] for g in robot_geoms(model, other.base)]
+        ranges = model.jnt_range[[model.joint(robot.prefix + j).id for j in robot.robot.arm_joints]]
+        park = choose_park(model, data, robot.arm_qpos, robot.base, robot.robot.home,
+                           robot.robot.tuck or robot.robot.home, ranges[:, 0], ranges[:, 1],
+                           ParkRule(clearance=clearance), others=others)
+        parks[robot.name] = park
+        qpos[robot.arm_qpos] = park.q
+        ctrl[robot.arm_ctrl] = park.q
         ctrl[robot.grip_ctrl] = robot.gripper_open(model)
-    spec.add_key(name="home", qpos=qpos.tolist(), ctrl=ctrl.tolist())
-    with _quiet_attach():
-        return compile_spec(spec, where=where)
+    model.key_qpos[0], model.key_ctrl[0] = qpos, ctrl
+    key.qpos, key.ctrl = qpos.tolist(), ctrl.tolist()  # the spec (and a scene exported from it) says the same
+    return model, parks
 

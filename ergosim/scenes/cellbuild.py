@@ -12,6 +12,7 @@ import mujoco
 
 from ergosim.quat import from_axis_to, from_rpy, from_yaw_deg
 from ergosim.robot.handle import robot_prefix
+from ergosim.robot.robot_model import get_robot
 from ergosim.scenes import build
 from ergosim.scenes.action_kinds import action_kind
 from ergosim.scenes.cellspec import Box, CellSpec, Shelf, Table
@@ -19,7 +20,7 @@ from ergosim.scenes.clearance import check_clearance
 from ergosim.scenes.shapes import add_part_body
 from ergosim.scenes.workcell import ActionGeometry, Workcell
 
-__all__ = ["build_cell", "seat_site", "present_site", "action_geometry", "PRESENT_STANDOFF"]
+__all__ = ["build_cell", "cell_mjspec", "seat_site", "present_site", "action_geometry", "PRESENT_STANDOFF"]
 
 PRESENT_STANDOFF = 0.06
 """How far short of its target a robot presents a part handed over at the target [m]: along the slot's axis
@@ -87,17 +88,19 @@ def _part_pose(spec: CellSpec, part) -> tuple[list[float], list[float]]:
     return list(part.pos), from_yaw_deg(part.yaw)
 
 
-def build_cell(spec: CellSpec) -> Workcell:
-    """The compiled :class:`Workcell` of ``spec`` (reset to its ``home`` keyframe)."""
+def _assemble(spec: CellSpec) -> tuple[mujoco.MjSpec, dict[str, str], mujoco.MjModel, tuple]:
+    """The scene's MjSpec before its keyframe, the holders' hand bodies, the human's articulated model and
+    the robots' (name, prefix) pairs."""
     m = build.new_spec(spec.name, spec.timestep)
     _furniture(m, spec)
     surfaces = spec.surfaces()
     hands: dict[str, str] = {}
-    prefixes = tuple((r.name, robot_prefix(i, r.name)) for i, r in enumerate(spec.robots))
-    for r, (_, prefix) in zip(spec.robots, prefixes, strict=True):
+    prefixes = tuple((r.name, robot_prefix(i, r.name), get_robot(r.model), r.park_clearance)
+                     for i, r in enumerate(spec.robots))
+    for r, (_, prefix, kind, _) in zip(spec.robots, prefixes, strict=True):
         support = surfaces[r.support].height if r.support is not None else None
-        build.attach_panda(m, r.base, r.yaw, spec.timestep, support_height=support, prefix=prefix)
-        hands[r.name] = f"{prefix}panda_hand"
+        build.attach_robot(m, kind, r.base, r.yaw, spec.timestep, support_height=support, prefix=prefix)
+        hands[r.name] = f"{prefix}{kind.hand}"
     human = build.attach_human(m, spec.worker)
     hands.update(build.human_hand_bodies(m))
     bodies = {}
@@ -134,7 +137,20 @@ def build_cell(spec: CellSpec) -> Workcell:
         m.add_exclude(bodyname1=host, bodyname2=part)
     received = list(dict.fromkeys(a.part for a in spec.actions if action_kind(a.kind).received))
     build.add_welds(m, hands, [p.name for p in spec.parts], seats, received)
-    model = build.finish(m, where=spec.source, robots=prefixes)
-    cell = Workcell(spec, model, action_geometry(spec), hands, human=human)
+    return m, hands, human, prefixes
+
+
+def cell_mjspec(spec: CellSpec) -> mujoco.MjSpec:
+    """The MjSpec of ``spec``'s scene, keyframe included (compiled once on the way), e.g. to save as MJCF."""
+    m, _, _, prefixes = _assemble(spec)
+    build.finish(m, where=spec.source, robots=prefixes)
+    return m
+
+
+def build_cell(spec: CellSpec) -> Workcell:
+    """The compiled :class:`Workcell` of ``spec`` (reset to its ``home`` keyframe)."""
+    m, hands, human, prefixes = _assemble(spec)
+    model, parks = build.finish(m, where=spec.source, robots=prefixes)
+    cell = Workcell(spec, model, action_geometry(spec), hands, human=human, parks=parks)
     check_clearance(spec, cell.model, cell.data)  # nothing starts inside furniture (at the home keyframe)
     return cell

@@ -24,9 +24,11 @@ from ergosim.errors import ConfigError
 from ergosim.human.anthropometry import SEGMENT_SCALES
 from ergosim.overrides import finite_float
 from ergosim.quat import from_rpy, to_mat
+from ergosim.robot.robot_model import default_robot, robot_names
 from ergosim.robot.ssm import SSMParams
 from ergosim.scenes.cellspec import (
     ACTION_KINDS,
+    COUPLINGS,
     SHAPES,
     Action,
     Box,
@@ -57,7 +59,7 @@ _TOP = {"name": "str", "description": "str", "timestep": "float", "seat_toleranc
 _TABLES = ("aliases", "worker", "robots", "furniture", "parts", "targets", "actions", "views", "safety")
 _WORKER = {"name": "str", "xy": ("floats", 2), "yaw": "float", "hand": "str", "stature": "float",
            "human_scale": "pairs", "standing_area": ("floats", 4), "max_turn": "float"}
-_ROBOT = {"model": "str", "base": ("floats", 3), "yaw": "float", "support": "str"}
+_ROBOT = {"model": "str", "base": ("floats", 3), "yaw": "float", "support": "str", "park_clearance": "float"}
 _FURNITURE = {
     "table": {"type": "str", "center": ("floats", 2), "size": ("floats", 2), "height": "float",
               "thickness": "float", "legs": "bool", "rgba": ("floats", 4)},
@@ -70,7 +72,7 @@ _PART = {"shape": "str", "size": ("floats", 3), "radius": "float", "length": "fl
          "scale": "float", "bore": "float", "clearance": "float", "wall": "float", "sleeve_length": "float",
          "sleeves": "strs", "mass": "float", "density": "float", "section_area": "float",
          "rgba": ("floats", 4), "on": "str", "xy": ("floats", 2), "yaw": "float", "pos": ("floats", 3),
-         "rpy": ("floats", 3), "insert_axis": "str", "grasp": "str", "slots": "slots"}
+         "rpy": ("floats", 3), "insert_axis": "str", "grasp": "str", "slots": "slots", "coupling": "str"}
 _SLOT = {"name": "str", "at": ("floats", 3), "axis": "axis"}
 _TARGET = {"on": "str", "xy": ("floats", 2), "yaw": "float", "part": "str", "pos": ("floats", 3)}
 _ACTION = {"kind": "str", "part": "str", "target": "str", "handover": "str", "turn_time": "float"}
@@ -277,7 +279,8 @@ def parse_cell(doc: Mapping[str, Any], source: str = "<inline>") -> CellSpec:
                       for name, t in doc.get("furniture", {}).items())
     parts = tuple(_part(name, t, at(f"parts.{name}")) for name, t in doc.get("parts", {}).items())
     targets = tuple(_target(name, t, at(f"targets.{name}")) for name, t in doc.get("targets", {}).items())
-    robots = tuple(Robot(name=name, **_fields(t, _ROBOT, at(f"robots.{name}"), required=("base",)))
+    robots = tuple(Robot(name=name, **{"model": default_robot(),
+                                       **_fields(t, _ROBOT, at(f"robots.{name}"), required=("base",))})
                    for name, t in doc.get("robots", {}).items())
     actions = tuple(Action(label=name, **_fields(t, _ACTION, at(f"actions.{name}"),
                                                  required=("kind", "part", "target")))
@@ -319,6 +322,9 @@ def _part(name: str, t: Any, where: str) -> Part:
             raise ConfigError(f"a {f['shape']} needs {k!r}", where=where)
     if f.get("grasp", "center") not in ("center", "top"):
         raise ConfigError(f"expected center or top, got {f['grasp']!r}", where=f"{where}.grasp")
+    if f.get("coupling", "good") not in COUPLINGS:
+        raise ConfigError(f"coupling must be one of {', '.join(COUPLINGS)} (REBA's), got {f['coupling']!r}",
+                          where=f"{where}.coupling")
     if f.get("insert_axis", "x") not in ("x", "y", "z"):
         raise ConfigError(f"expected x, y or z, got {f['insert_axis']!r}", where=f"{where}.insert_axis")
     for s in f.get("sleeves", ()):
@@ -413,7 +419,10 @@ def _check(spec: CellSpec, at) -> None:
     _check_overlaps(spec, at)
     for r in spec.robots:
         entry = f"robots.{r.name}"
-        need(r.model == "panda", f"{entry}.model", f"unknown robot model {r.model!r}; models: panda")
+        need(r.model in robot_names(), f"{entry}.model",
+             f"unknown robot model {r.model!r}; valid robot models: {', '.join(robot_names())}")
+        need(0.0 <= r.park_clearance <= 2.0, f"{entry}.park_clearance",
+             f"must be in [0, 2] m, got {r.park_clearance}")
         need(r.support is None or r.support in surfaces, f"{entry}.support",
              f"unknown surface {r.support!r}; surfaces: {', '.join(surfaces)}")
         if r.support is not None:

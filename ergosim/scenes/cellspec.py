@@ -130,6 +130,10 @@ class Slot:
         return f"{self.host}.{self.name}"
 
 
+COUPLINGS = ("good", "fair", "poor", "unacceptable")
+"""REBA's coupling levels a part's ``coupling`` may name (Hignett & McAtamney 2000)."""
+
+
 @dataclasses.dataclass(frozen=True)
 class Part:
     """A free body. ``shape``: box (``size`` full (x, y, z) [m]), cylinder (``radius``, ``length`` along local
@@ -167,6 +171,9 @@ class Part:
     insert_axis: Literal["x", "y", "z"] = "x"
     grasp: Literal["center", "top"] = "center"
     slots: tuple[Slot, ...] = ()
+    coupling: str | None = None
+    """How the worker's hand holds it, one of :data:`COUPLINGS` (REBA's coupling); None: from its grip width
+    (:func:`ergosim.ergonomics.reba_parts.grip_coupling`, applied where the worker is scored)."""
 
     @property
     def core_half(self) -> float:
@@ -248,14 +255,18 @@ class Worker:
 
 @dataclasses.dataclass(frozen=True)
 class Robot:
-    """A robot named like its task agent: ``model`` (``panda``: example-robot-data's Panda), ``panda_link0``
-    at ``base`` (3,) [m] turned by ``yaw`` [deg]; a pedestal fills the gap down to surface ``support``."""
+    """A robot named like its task agent: ``model`` a registered robot model
+    (:func:`ergosim.robot.robot_names`; a file that names none gets :func:`ergosim.robot.default_robot`),
+    its base body at ``base`` (3,) [m] turned by ``yaw`` [deg]; a pedestal fills the gap down to surface
+    ``support``. ``park_clearance`` [m]: the distance its park (home) pose keeps from the worker's head,
+    neck and chest (:mod:`ergosim.scenes.park`; 0: the model's ready pose as it is)."""
 
     name: str
-    model: Literal["panda"] = "panda"
+    model: str
     base: tuple[float, float, float] = (0.0, 0.0, 0.0)
     yaw: float = 0.0
     support: str | None = None
+    park_clearance: float = 0.5
 
 
 @dataclasses.dataclass(frozen=True)

@@ -1,8 +1,8 @@
 """Clearance of a compiled workcell at its ``home`` keyframe: nothing starts inside furniture.
 
 The file checks of :mod:`ergosim.scenes.cellfile` reason about boxes and points; this one asks MuJoCo for
-the signed distance between real collision geoms (``mj_geomDistance``), so it also covers the Panda's links
-at its ready pose, pedestals, meshes and socket blocks. It needs no simulation step. A robot link or
+the signed distance between real collision geoms (``mj_geomDistance``), so it also covers the robots' links
+at their home poses, pedestals, meshes and socket blocks. It needs no simulation step. A robot link or
 pedestal, or a part, more than :data:`PENETRATION` inside a piece of furniture is a ConfigError naming the
 file, the entry and how deep.
 """
@@ -14,6 +14,7 @@ import numpy as np
 
 from ergosim.errors import ConfigError
 from ergosim.robot.handle import robot_prefix
+from ergosim.robot.robot_model import get_robot
 from ergosim.scenes.cellspec import CellSpec
 
 __all__ = ["PENETRATION", "check_clearance", "furniture_of_geoms"]
@@ -46,9 +47,9 @@ def _solid(model: mujoco.MjModel, g: int) -> bool:
     return bool(model.geom_contype[g] or model.geom_conaffinity[g])
 
 
-def _arm_geoms(model: mujoco.MjModel, prefix: str) -> list[int]:
-    """The collision geoms of the Panda whose names start with ``prefix`` (its ``panda_link0`` subtree)."""
-    root = model.body(f"{prefix}panda_link0").id
+def _arm_geoms(model: mujoco.MjModel, base: str) -> list[int]:
+    """The collision geoms of the robot whose base body is ``base`` (its subtree)."""
+    root = model.body(base).id
     return [g for g in range(model.ngeom)
             if model.body_rootid[model.geom_bodyid[g]] == root and _solid(model, g)]
 
@@ -71,7 +72,8 @@ def check_clearance(spec: CellSpec, model: mujoco.MjModel, data: mujoco.MjData) 
                     worst = (d, a, b)
         return worst
 
-    arms = {r.name: _arm_geoms(model, robot_prefix(i, r.name)) for i, r in enumerate(spec.robots)}
+    arms = {r.name: _arm_geoms(model, robot_prefix(i, r.name) + get_robot(r.model).base)
+            for i, r in enumerate(spec.robots)}
     for i, robot in enumerate(spec.robots):
         pedestal = [g for g, owner in furniture.items() if owner == _PEDESTAL
                     and model.geom(g).name == f"{robot_prefix(i, robot.name)}{_PEDESTAL}"]

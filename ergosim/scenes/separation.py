@@ -96,7 +96,7 @@ class Separation:
 class SeparationModel:
     """The capsules of a workcell's robots and worker, from its compiled model.
 
-    ``robot_geoms``: robot name -> its collision geoms (the bodies under its ``panda_link0``); ``human``:
+    ``robot_geoms``: robot name -> its collision geoms (the bodies under its base); ``human``:
     the worker's segment geoms."""
 
     def __init__(self, model: mujoco.MjModel, robot_bases: dict[str, str], human_bodies) -> None:

@@ -34,8 +34,8 @@ _AXIS = {"x": np.array([1.0, 0, 0]), "y": np.array([0, 1.0, 0]), "z": np.array([
 _DOWN_Z = [0, 0, 1, 0]  # TCP frame of a top-down grasp: rotation of pi about y (z -> -z, x -> -x)
 _DOWN_X = [np.cos(np.pi / 4), 0, -np.sin(np.pi / 4), 0]  # TCP x = local z, z = -local x: -90 deg about y
 _END_GRASP = 0.025  # m below the +x end, where a standing profile is taken by its end (assumed: a finger pad)
-_TOP_GRASP = 0.008  # m below the top, where a part is taken by its top: the Panda's finger pads reach about
-# 9 mm below the TCP (assumed from the finger mesh), so the pads stay clear of what the part stands in
+_TOP_GRASP = 0.008  # m below the top, where a part is taken by its top: the bundled robots' finger pads reach
+# 9.5-10 mm past the TCP (their finger meshes and boxes), so the pads stay clear of what the part stands in
 
 
 def add_part_body(spec: mujoco.MjSpec, part: Part, pos, quat) -> mujoco.MjsBody:

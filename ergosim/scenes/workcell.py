@@ -16,7 +16,8 @@ import numpy as np
 from ergosim.errors import ConfigError
 from ergosim.human.mocap import MocapHuman
 from ergosim.quat import angle_deg, conj, from_mat
-from ergosim.robot.handle import PandaHandle, robot_prefix
+from ergosim.robot.handle import RobotHandle, robot_prefix
+from ergosim.robot.robot_model import get_robot
 from ergosim.scenes.action_kinds import ActionKind, action_kind
 from ergosim.scenes.build import receive_name, seat_name, weld_name
 from ergosim.scenes.cellspec import CellSpec
@@ -78,14 +79,15 @@ _ROBOT_BIT = 2  # the robot's collision geoms have contype 2 (PART_COLLISION acc
 
 class Workcell:
     """One scene instance built from ``spec`` (:class:`~ergosim.scenes.cellspec.CellSpec`, also
-    :attr:`config`). ``hand_bodies``: holder name -> body that holds (``panda_hand``, human hands).
+    :attr:`config`). ``hand_bodies``: holder name -> body that holds (a robot's hand, the human's hands).
 
     ``human``: the articulated human model returned by :func:`~ergosim.scenes.build.attach_human`; the scene's
     mocap human is then driven through :attr:`human` (a :class:`~ergosim.human.mocap.MocapHuman`).
     """
 
     def __init__(self, spec: CellSpec, model: mujoco.MjModel, actions: dict[str, ActionGeometry],
-                 hand_bodies: dict[str, str], human: mujoco.MjModel | None = None) -> None:
+                 hand_bodies: dict[str, str], human: mujoco.MjModel | None = None,
+                 parks: dict | None = None) -> None:
         self.name = spec.name
         self.model = model
         self.data = mujoco.MjData(model)
@@ -93,11 +95,15 @@ class Workcell:
         self.actions = dict(actions)
         self.hand_bodies = dict(hand_bodies)
         self.human = MocapHuman(model, human) if human is not None else None
+        self.parks = dict(parks or {})
+        """robot name -> :class:`~ergosim.scenes.park.ParkChoice`: where it parks, its clearance [m] from the
+        worker's head, neck and chest, and whether that met the cell's rule."""
         self.home_key = model.keyframe("home").id
         self.parts = tuple(p.name for p in spec.parts)
         self.robots = tuple(r.name for r in spec.robots)
-        self.robot_handles = {r.name: PandaHandle.find(model, r.name, robot_prefix(i, r.name))
-                              for i, r in enumerate(spec.robots)}
+        self.robot_handles = {
+            r.name: RobotHandle.find(model, r.name, robot_prefix(i, r.name), get_robot(r.model))
+            for i, r in enumerate(spec.robots)}
         self._grip = {p.name: p.grip_width for p in spec.parts}
         self._body = {p: model.body(p).id for p in self.parts}
         self._hand = {h: model.body(b).id for h, b in hand_bodies.items()}
@@ -125,11 +131,16 @@ class Workcell:
         return self.data.xpos[i].copy(), self.data.xquat[i].copy()
 
     def robot_base_pose(self, robot: str | None = None) -> tuple[np.ndarray, np.ndarray]:
-        """Pose of ``panda_link0`` of ``robot`` (default: the cell's first robot)."""
+        """Pose of the base body of ``robot`` (default: the cell's first robot)."""
         return self.body_pose(self.robot(robot).base)
 
-    def robot(self, name: str | None = None) -> PandaHandle:
-        """The :class:`~ergosim.robot.handle.PandaHandle` of robot ``name`` (default: the first)."""
+    def robot_home(self, name: str | None = None) -> np.ndarray:
+        """(n,) the arm configuration [rad] robot ``name`` (default: the first) parks in: its joints in the
+        ``home`` keyframe, the pose chosen for the worker (:mod:`ergosim.scenes.park`)."""
+        return self.model.key_qpos[self.home_key][self.robot(name).arm_qpos].copy()
+
+    def robot(self, name: str | None = None) -> RobotHandle:
+        """The :class:`~ergosim.robot.handle.RobotHandle` of robot ``name`` (default: the first)."""
         if not self.robot_handles:
             raise ConfigError("the workcell has no robot", where=self.name)
         if name is None:

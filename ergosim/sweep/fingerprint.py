@@ -19,7 +19,7 @@ import ergosim
 __all__ = ["code_fingerprint", "FINGERPRINT_DISTRIBUTIONS"]
 
 FINGERPRINT_DISTRIBUTIONS = ("mujoco", "numpy", "scipy", "pin", "example-robot-data")
-"""The libraries whose version enters the fingerprint: physics, numerics, kinematics, the Panda model."""
+"""The libraries whose version enters the fingerprint: physics, numerics, kinematics, the robot models."""
 
 
 @functools.cache

@@ -75,11 +75,15 @@ class Allocator:
     ``mode``: a registered :class:`~ergosim.twin.modes.Mode`; ``index``: the risk index whose prediction
     sets the human's costs (None for modes without one); ``cost``: Γ, V_th, c_r (eq. 10-11); ``w_time`` and
     ``durations``: the time term, w_time × expected duration per (action, agent) (0: the paper's cost).
+    ``refused``: (action, robot) pairs the robot cannot do in this cell (its gripper, payload or reach,
+    :func:`ergosim.experiment.scenario_check.robot_refusals`): taken from the task for the whole run, as if
+    the task did not allow them.
     """
 
     def __init__(self, graph: AndOrGraph, mode: Mode, *, index: RiskIndex | None, cost: CostParams | None,
                  planner: str = "fast", w_time: float = 0.0,
-                 durations: Mapping[tuple[str, str], float] | None = None, tie: str = PAPER_TIE_RULE) -> None:
+                 durations: Mapping[tuple[str, str], float] | None = None, tie: str = PAPER_TIE_RULE,
+                 refused: frozenset[tuple[str, str]] = frozenset()) -> None:
         self.graph = graph
         self.mode = mode
         self.index = index
@@ -92,7 +96,9 @@ class Allocator:
         self.allowed: dict[str, set[str]] = {}
         for op in graph.operations:
             self.allowed.setdefault(op.action, set()).update(op.agents)
-        self.base_pruned = mode.pruned(self.allowed, self.human, self.robots)
+        for action, agent in refused:
+            self.allowed.get(action, set()).discard(agent)
+        self.base_pruned = mode.pruned(self.allowed, self.human, self.robots) | set(refused)
         self._action_of = {op.name: op.action for op in graph.operations}
         self.w_time = float(w_time)
         """Weight of the time term [cost per s]: w_time × expected duration is added to every hyper-arc."""

@@ -28,6 +28,7 @@ from ergosim.ergonomics.kwear import KWearParams
 from ergosim.ergonomics.param_store import ParamStore, WorkerParams
 from ergosim.errors import ConfigError
 from ergosim.scenes import build_scene
+from ergosim.twin.features import FeatureScorer, cell_hold
 from ergosim.twin.worker_track import WorkerTrack
 from ergosim.worker.subjects import Subject
 
@@ -60,6 +61,9 @@ class SceneCalibration:
         self.tick_every = int(tick_every)
         self.dt_tick = float(dt_tick)
         self.passes: list[dict[str, Execution]] = []
+        """Per pass, action -> its execution's RULA part scores (the paper's KWear inputs)."""
+        self.feature_passes: list[dict[str, dict[str, Execution]]] = []
+        """Per pass, feature -> action -> its execution on that feature, for the track's extra features."""
         self.mtm: dict[str, str] = {}
         """action -> the MTM-1 analysis of its first recorded execution."""
 
@@ -67,6 +71,7 @@ class SceneCalibration:
         cell, worker = self.cell, self.track.worker
         cell.reset_parts()
         executions: dict[str, Execution] = {}
+        by_feature: dict[str, dict[str, Execution]] = {}
         for action in self.actions:
             geom = cell.actions[action]
             motion = worker.plan(cell, geom, self.rng, action=action)
@@ -74,6 +79,11 @@ class SceneCalibration:
             seg = self.track.start_action(motion)
             ticks = np.arange(self.tick_every - 1, seg.n, self.tick_every)
             executions[action] = Execution(seg.g[ticks], self.dt_tick, seg.grand[ticks])
+            for feat, g in seg.g_by.items():
+                if feat != "rula":
+                    whole = seg.whole_by.get(feat)
+                    by_feature.setdefault(feat, {})[action] = Execution(
+                        g[ticks], self.dt_tick, None if whole is None else whole[ticks])
             pos, quat = cell.site_pose(geom.target)
             put_part(cell, geom.part, pos, quat)
             if geom.seats:
@@ -82,30 +92,41 @@ class SceneCalibration:
                 cell.receive(geom.part, pos)
         cell.reset_parts()
         self.passes.append(executions)
+        self.feature_passes.append(by_feature)
 
-    def execute(self, action: str, l: int) -> Execution:  # noqa: E741 - the paper's index
+    def execute(self, action: str, l: int, feature: str = "rula") -> Execution:  # noqa: E741 - the paper's index
+        """Execution ``l`` of ``action`` on posture feature ``feature`` (recorded when first asked for)."""
         while len(self.passes) <= l:
             self._record_pass()
-        return self.passes[l][action]
+        return self.passes[l][action] if feature == "rula" else self.feature_passes[l][feature][action]
 
     @classmethod
     def for_subject(cls, scene, subject: Subject, rng: np.random.Generator, *, mocap_rate: float,
                     ergonomics_rate: float, actions: Sequence[str] | None = None, dropout_rate: float = 0.0,
-                    noise: bool | float = True,
-                    scene_overrides: Mapping[str, Any] | None = None) -> SceneCalibration:
+                    noise: bool | float = True, scene_overrides: Mapping[str, Any] | None = None,
+                    features: Sequence[str] = ()) -> SceneCalibration:
         """The recorder for ``subject`` in workcell ``scene`` (a name or file, built for the subject's body as
         the twin builds it, ``scene_overrides`` winning; or an already built :class:`Workcell`), its mocap
-        stream drawing from ``rng``. ``actions``: the order of a pass (default: the scene's)."""
+        stream drawing from ``rng``. ``actions``: the order of a pass (default: the scene's); ``features``:
+        posture features to record besides RULA's (``reba``)."""
         if isinstance(scene, str | os.PathLike):
             scene = build_scene(scene, **{**subject.workcell_fields, **dict(scene_overrides or {})})
         cell = scene
-        track = WorkerTrack.for_subject(subject, rng, rate=mocap_rate, dropout_rate=dropout_rate, noise=noise)
+        extra = [f for f in features if f != "rula"]
+        scorer = FeatureScorer(extra, cell_hold(cell)) if extra else None
+        track = WorkerTrack.for_subject(subject, rng, rate=mocap_rate, dropout_rate=dropout_rate, noise=noise,
+                                        scorer=scorer)
         tick_every = int(round(mocap_rate / ergonomics_rate))
         return cls(tuple(cell.actions) if actions is None else actions, cell, track, rng, tick_every,
                    tick_every * (1.0 / mocap_rate))
 
-    def run(self, params: KWearParams, *, eta0: int, eta_max: int, v_des: float) -> Calibration:
-        return calibrate(self.actions, self.execute, params, eta0=eta0, eta_max=eta_max, v_des=v_des)
+    def run(self, params: KWearParams, *, eta0: int, eta_max: int, v_des: float,
+            feature: str = "rula") -> Calibration:
+        """The adaptive-η calibration of every action (§5) on posture feature ``feature`` (``rula``: the
+        paper's; ``reba``: REBA's six part scores, when the track scores them), sharing the recorded
+        passes."""
+        return calibrate(self.actions, lambda a, l: self.execute(a, l, feature), params, eta0=eta0,  # noqa: E741
+                         eta_max=eta_max, v_des=v_des)
 
 
 def _check_rates(mocap_rate: float, ergonomics_rate: float) -> None:

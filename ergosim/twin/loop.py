@@ -3,10 +3,12 @@
 Every control tick (the mocap rate, 60 Hz by default) the worker's true posture sets the human's ``qpos``
 (and so the scene's mocap segments, :class:`~ergosim.human.mocap.MocapHuman`), the robot's skill sets its
 actuators, and MuJoCo steps the plant. Every ergonomics tick (20 Hz) the measured mocap frame's RULA part
-scores G_i advance KWear (eq. 3-5). When an action completes -- detected in the scene: a profile seated, a
-part placed, a handover taken -- the risk index predicts V̂ for every candidate action (eq. 9), the cost
-model turns it into hyper-arc costs (eq. 10-11), and the planner (RecursiveAO*, Algorithm 2) returns the
-next (action, agent), which is dispatched to the robot's skill or to the worker's motion.
+scores G_i advance KWear (eq. 3-5) -- or, for a risk index on another posture feature (REBA's part
+scores, :mod:`ergosim.ergonomics.features`), that feature's row. When an action completes -- detected in
+the scene: a profile seated, a part placed, a handover taken -- the risk index predicts V̂ for every
+candidate action (eq. 9), the cost model turns it into hyper-arc costs (eq. 10-11), and the planner
+(RecursiveAO*, Algorithm 2) returns the next (action, agent), which is dispatched to the robot's skill or
+to the worker's motion.
 """
 
 from __future__ import annotations
@@ -14,7 +16,7 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
-from ergosim.ergonomics.risk_index import KWearIndex
+from ergosim.ergonomics.risk_index import RiskIndex
 from ergosim.errors import ModelError
 from ergosim.posture import KWEAR_JOINTS, STANCE
 from ergosim.twin.records import TICK_COLUMNS, TickLog
@@ -31,6 +33,7 @@ _SCORES = slice(TICK_COLUMNS.index("acting"), TICK_COLUMNS.index("rula_grand") +
 _KWEAR = slice(TICK_COLUMNS.index(f"kwear_{KWEAR_JOINTS[0]}"),
                TICK_COLUMNS.index(f"kwear_{KWEAR_JOINTS[-1]}") + 1)
 _STANCE = slice(TICK_COLUMNS.index(STANCE[0]), TICK_COLUMNS.index(STANCE[-1]) + 1)
+_END = len(TICK_COLUMNS)  # the extra columns of a REBA index follow the paper's (and the stance)
 
 
 PLANT_HOOKS = ("on_grasp", "on_release", "before_physics", "after_step")
@@ -66,11 +69,15 @@ class Plant:
     ``mocap_rate`` [Hz] is the control tick; physics takes ``n_sub`` MuJoCo steps per control tick with the
     timestep adjusted so the two clocks agree exactly; the ergonomics tick runs every ``tick_every`` control
     ticks. ``robot`` (a :class:`~ergosim.twin.robot_track.RobotTrack` or None) steps the physics itself while
-    one of its skills is active. ``hooks`` (:class:`PlantHook`) act at the named points of every tick
-    (:data:`PLANT_HOOKS`): the worker's hand on a part, speed and separation monitoring.
+    one of its skills is active. ``kwear``: the worker's online risk index (the paper's KWear on RULA part
+    scores, or another feature's, e.g. KWear on REBA part scores), advanced every ergonomics tick with its
+    feature's row; ticks.csv gains the track's extra feature columns and, for an index with more joints
+    than the paper's five, ``kwear_<joint>`` for each further joint. ``hooks`` (:class:`PlantHook`) act at
+    the named points of every tick (:data:`PLANT_HOOKS`): the worker's hand on a part, speed and separation
+    monitoring.
     """
 
-    def __init__(self, cell, track: WorkerTrack, kwear: KWearIndex, *, mocap_rate: float,
+    def __init__(self, cell, track: WorkerTrack, kwear: RiskIndex, *, mocap_rate: float,
                  ergonomics_rate: float, physics_dt: float, record_bodies: bool = False) -> None:
         self.cell = cell
         self.model: mujoco.MjModel = cell.model
@@ -87,13 +94,21 @@ class Plant:
         self.dt_tick = self.tick_every * self.dt_control
         self.ticks = 0  # control ticks since the start
         self.repetition = 0
-        self.log = TickLog()
+        extra_joints = tuple(j for j in kwear.joints if j not in KWEAR_JOINTS)
+        scorer = track.scorer
+        self._extra = scorer.columns if scorer is not None else ()
+        self.log = TickLog(TICK_COLUMNS + self._extra + tuple(f"kwear_{j}" for j in extra_joints))
+        self._feature = kwear.features
+        self._m = len(kwear.joints)
+        self.indices: list[RiskIndex] = []
+        """Further risk indices fed every ergonomics tick with their own feature's row (a mode's stateful
+        index other than ``kwear``, e.g. one on joint angles); not logged."""
         self.robot = None
         """The acting robot's track (or a group of tracks): it steps the physics while a skill is active."""
         self.hooks: list[PlantHook] = []
-        self._zero_g = np.zeros(_M)
+        self._zero_g = np.zeros(self._m)
         self._posed = None  # the segment whose pose the scene's human shows
-        self._row = np.empty(len(TICK_COLUMNS))
+        self._row = np.empty(len(self.log.columns))
         self.record_bodies = record_bodies
         self.body_pos: list[np.ndarray] = []
         self.body_quat: list[np.ndarray] = []
@@ -101,8 +116,8 @@ class Plant:
 
     @property
     def v(self) -> np.ndarray:
-        """(5,) current KWear per joint (KWEAR_JOINTS order)."""
-        return self.kwear.value
+        """(5,) current KWear per joint (KWEAR_JOINTS order): the index's first five joints."""
+        return self.kwear.value[:_M]
 
     @property
     def dropouts(self) -> int:
@@ -147,15 +162,27 @@ class Plant:
         """Paper eq. 3-5 over one ergonomics period: wear while acting, recovery while resting. A dropout
         (NaN frame) is counted by the index and V holds, so NaN never reaches KWear."""
         if seg.acting:
-            self.kwear.update(seg.g[k], self.dt_tick)
+            g = seg.g if self._feature == "rula" else seg.g_by[self._feature]
+            self.kwear.update(g[k], self.dt_tick)
         else:
             self.kwear.update(self._zero_g, self.dt_tick, resting=True)
+        for index in self.indices:
+            if seg.acting:
+                g = seg.g if index.features == "rula" else seg.g_by[index.features]
+                index.update(g[k], self.dt_tick)
+            else:
+                index.update(np.zeros(len(index.joints)), self.dt_tick, resting=True)
         row = self._row
         row[0] = self.repetition
         row[1] = self.time
         row[_SCORES] = seg.scores[k]
-        row[_KWEAR] = self.kwear.value
+        v = self.kwear.value
+        row[_KWEAR] = v[:_M]
         row[_STANCE] = seg.stance[k]
+        if len(row) > _END:
+            n = len(self._extra)
+            row[_END:_END + n] = seg.extra[k]
+            row[_END + n:] = v[_M:]
         self.log.append(row)
         if self.record_bodies:
             self.body_pos.append(self.data.xpos.copy())

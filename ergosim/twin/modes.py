@@ -10,6 +10,8 @@ Bundled modes:
 
 - ``hrc``: KWear-driven allocation (eq. 9-11), the paper's framework;
 - ``rula``: the static RULA baseline of §7.1 (a constant G(a_k) per action against G_th);
+- ``hrc-reba``: the same framework with KWear on REBA's part scores (the legs a sixth joint);
+- ``reba``: a static REBA baseline (the REBA score G(a_k) against ``reba_threshold``);
 - ``h-only``: the worker does everything and waits for the takt (§7.2's H only);
 - ``r-only``: every action a robot may do goes to a robot.
 
@@ -25,7 +27,7 @@ from typing import TYPE_CHECKING
 
 from ergosim.ergonomics.calibration import Calibration
 from ergosim.ergonomics.cost import CostParams
-from ergosim.ergonomics.risk_index import KWearIndex, RiskIndex, StaticRulaIndex
+from ergosim.ergonomics.risk_index import REBA_G_MAX, KWearIndex, RiskIndex, StaticRebaIndex, StaticRulaIndex
 from ergosim.registry import Registry
 
 if TYPE_CHECKING:  # the protocol checks its modes against this module's registry
@@ -38,8 +40,9 @@ __all__ = ["Mode", "RiskIndexEntry", "IndexContext", "MODES", "RISK_INDICES", "r
 
 @dataclasses.dataclass(frozen=True)
 class IndexContext:
-    """What a risk-index factory may use: the scenario protocol, the subject's online KWear index (fed by
-    the plant every ergonomics tick) and its calibration (α, G(a_k), η)."""
+    """What a risk-index factory may use: the scenario protocol, the subject's online KWear index on the
+    index's feature (fed by the plant every ergonomics tick; on RULA's part scores for an index on raw
+    angles) and its calibration on that feature (α, G(a_k), η)."""
 
     protocol: ScenarioConfig
     kwear: KWearIndex
@@ -52,10 +55,15 @@ Pruning = Callable[[Mapping[str, set[str]], str, tuple[str, ...]], set[tuple[str
 
 @dataclasses.dataclass(frozen=True)
 class RiskIndexEntry:
-    """``build(ctx)`` -> (the index, its cost rule) for one subject's run."""
+    """``build(ctx)`` -> (the index, its cost rule) for one subject's run; ``features``: the posture feature
+    the index reads (the worker's online KWear of the run, its calibration and its tick columns follow it:
+    ``rula`` or ``reba``; an index on ``angles`` runs beside the RULA KWear;
+    :mod:`ergosim.ergonomics.features`). A decision's words are :mod:`ergosim.viz.reason`'s
+    (``register_reason``)."""
 
     name: str
     build: Callable[[IndexContext], tuple[RiskIndex, CostParams]]
+    features: str = "rula"
 
 
 @dataclasses.dataclass(frozen=True)
@@ -132,8 +140,14 @@ def _rula(ctx: IndexContext) -> tuple[RiskIndex, CostParams]:
     return StaticRulaIndex(ctx.calibration.rula_scores, g_max=cost.rula_g_max), cost.rula_params()
 
 
+def _reba(ctx: IndexContext) -> tuple[RiskIndex, CostParams]:
+    return StaticRebaIndex(ctx.calibration.grand_scores), ctx.protocol.cost.reba_params(REBA_G_MAX)
+
+
 register_risk_index(RiskIndexEntry("kwear", _kwear))
 register_risk_index(RiskIndexEntry("rula-static", _rula))
+register_risk_index(RiskIndexEntry("kwear-reba", _kwear, features="reba"))
+register_risk_index(RiskIndexEntry("reba-static", _reba, features="reba"))
 
 
 # -- the bundled modes ---------------------------------------------------------------------------------------
@@ -152,3 +166,7 @@ register_mode(Mode("rula", "static RULA baseline (paper §7.1, Table 1)", risk_i
 register_mode(Mode("h-only", "the worker does everything and waits for the takt (paper §7.2)",
                    prune=_human_only, waits_for_takt=True, uses_robot=False))
 register_mode(Mode("r-only", "every action a robot may do goes to a robot", prune=_robot_first))
+register_mode(Mode("hrc-reba", "KWear on REBA part scores, legs included (eq. 9-11 on REBA)",
+                   risk_index="kwear-reba", table_key="kwear_reba", paired_with="h-only"))
+register_mode(Mode("reba", "static REBA baseline (G(a_k) >= reba_threshold goes to the robot)",
+                   risk_index="reba-static", table_key="reba"))

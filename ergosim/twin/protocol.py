@@ -3,7 +3,8 @@
 A scenario file's ``[protocol]`` table (docs/workcell_format.md) and ``--set`` address every field by its
 own flat name (``takt = 40``, ``--set v_th=0.7``); the fields live in groups by what they shape:
 
-- :class:`CostConfig`, ``cost``: the hyper-arc costs (paper §4, eq. 10-11) and the static RULA baseline;
+- :class:`CostConfig`, ``cost``: the hyper-arc costs (paper §4, eq. 10-11) and the static RULA and REBA
+  baselines;
 - :class:`RobotConfig`, ``robot``: the robot's TCP speeds;
 - :class:`PopulationConfig`, ``population``: how many synthetic subjects, and who they are;
 - :class:`PacingConfig`, ``pacing``: the repetitions, the takt and who paces the line;
@@ -30,11 +31,8 @@ from ergosim.robot.trajectory import CONTACT_SPEED, TRANSIT_SPEED
 from ergosim.twin.modes import mode_names
 
 __all__ = ["ScenarioConfig", "CostConfig", "RobotConfig", "PopulationConfig", "PacingConfig", "TeamConfig",
-           "SensingConfig", "CalibrationConfig", "PROTOCOL_KEYS", "EE_SPEED_MAX", "ETA_MAX_LIMIT"]
+           "SensingConfig", "CalibrationConfig", "PROTOCOL_KEYS", "ETA_MAX_LIMIT"]
 
-EE_SPEED_MAX = 1.7
-"""Largest end-effector speed [m/s]: the Franka Emika Panda's Cartesian translation limit (Franka Control
-Interface documentation, "Limits for Panda": 1.7 m/s)."""
 ETA_MAX_LIMIT = 50
 """Largest eta_max (calibration passes, §5). Assumed: each pass performs every action once (about a minute
 of simulated work), so 50 passes already take minutes of wall time per subject; the paper's η stay < 10."""
@@ -47,7 +45,8 @@ def _need(ok: bool, msg: str, where: str) -> None:
 
 @dataclasses.dataclass(frozen=True)
 class CostConfig:
-    """The hyper-arc costs (paper §4, eq. 10-11) and the static RULA baseline (§7.1); dimensionless."""
+    """The hyper-arc costs (paper §4, eq. 10-11), the static RULA baseline (§7.1) and the static REBA
+    baseline; dimensionless."""
 
     robot_cost: float = 1.0
     """c_{h,w_r}: the constant cost of every robot hyper-arc (paper §4); a scenario file must give it."""
@@ -58,6 +57,10 @@ class CostConfig:
     rula_g_max: float = 9.0
     """G_max of the static RULA baseline; the paper takes 9, the top of Table A (§7.1)."""
     rula_threshold_fraction: float = 0.8
+    reba_threshold: float = 8.0
+    """G_th of the static REBA baseline (mode ``reba``): an action goes to the robot when its REBA score
+    G(a_k) reaches it; 8, the first score of REBA's "high risk" band (action necessary soon, Hignett &
+    McAtamney 2000). Its G_max is 15, the top REBA score."""
 
     @property
     def rula_threshold(self) -> float:
@@ -73,11 +76,17 @@ class CostConfig:
         return rula_baseline_params(self.robot_cost, self.gamma, g_th=self.rula_threshold,
                                     g_max=self.rula_g_max)
 
+    def reba_params(self, g_max: float) -> CostParams:
+        """The cost model's constants for the static REBA baseline (risk G / ``g_max``)."""
+        return rula_baseline_params(self.robot_cost, self.gamma, g_th=self.reba_threshold, g_max=g_max)
+
     def validate(self, where: str) -> None:
         _need(self.robot_cost > 0, f"robot_cost must be > 0, got {self.robot_cost}", where)
         _need(self.gamma > 0, f"gamma must be > 0, got {self.gamma}", where)
         _need(0 < self.v_th < 1, f"v_th must be in (0, 1), got {self.v_th}", where)
         _need(0 < self.rula_threshold_fraction <= 1, "rula_threshold_fraction must be in (0, 1]", where)
+        _need(1 <= self.reba_threshold <= 15, f"reba_threshold must be a REBA score in [1, 15], got "
+              f"{self.reba_threshold}", where)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -89,13 +98,11 @@ class RobotConfig:
     the handover pose); the paper's conservative 0.05 m/s (§7.2)."""
     transit_speed: float = TRANSIT_SPEED
     """Free-space transits; ISO 10218-1:2011 §5.6 reduced speed (<= 0.25 m/s), at least ee_speed and at most
-    EE_SPEED_MAX."""
+    the cell's robots' Cartesian limit (``RobotModel.max_speed``, checked with the workcell)."""
 
     def validate(self, where: str) -> None:
-        _need(0 < self.ee_speed <= EE_SPEED_MAX, f"ee_speed must be in (0, {EE_SPEED_MAX}] m/s (the Panda's "
-              f"Cartesian limit), got {self.ee_speed}", where)
-        _need(0 < self.transit_speed <= EE_SPEED_MAX, f"transit_speed must be in (0, {EE_SPEED_MAX}] m/s "
-              f"(the Panda's Cartesian limit), got {self.transit_speed}", where)
+        _need(self.ee_speed > 0, f"ee_speed must be > 0 m/s, got {self.ee_speed}", where)
+        _need(self.transit_speed > 0, f"transit_speed must be > 0 m/s, got {self.transit_speed}", where)
         _need(self.ee_speed <= self.transit_speed, f"ee_speed ({self.ee_speed} m/s, contact-critical motion) "
               f"must not exceed transit_speed ({self.transit_speed} m/s, free-space motion)", where)
 
@@ -264,12 +271,14 @@ class ScenarioConfig:
 
     def record(self) -> dict:
         """The protocol as the outputs record it (``summary.json`` ``config``, ``run.json``), flat by field
-        name: every field, except the team group while it keeps its defaults, so a paper protocol's outputs
-        stay as they were."""
+        name: every field, except the team group while it keeps its defaults and ``reba_threshold`` while it
+        keeps its default, so a paper protocol's outputs stay as they were."""
         out = flat_values(self)
         if self.team == TeamConfig():
             for key in dataclasses.asdict(self.team):
                 out.pop(key)
+        if self.cost.reba_threshold == CostConfig.reba_threshold:
+            out.pop("reba_threshold")
         return out
 
     def team_settings(self) -> dict:

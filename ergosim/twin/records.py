@@ -106,12 +106,15 @@ class RepetitionOutcome:
 class TickLog:
     """Preallocated per-tick buffers at the ergonomics rate; grows by doubling, never per tick.
 
-    Row layout follows :data:`TICK_COLUMNS`. ``kwear`` is (n, 5) in ``KWEAR_JOINTS`` order.
+    Row layout follows ``columns``: :data:`TICK_COLUMNS`, then the columns of any further posture feature
+    (REBA's, with its ``kwear_legs``). ``kwear`` is (n, m), every ``kwear_*`` column (KWEAR_JOINTS first).
     """
 
-    def __init__(self, capacity: int = 4096) -> None:
-        self._data = np.full((max(capacity, 16), len(TICK_COLUMNS)), np.nan)
+    def __init__(self, columns: tuple[str, ...] = TICK_COLUMNS, capacity: int = 4096) -> None:
+        self.columns = tuple(columns)
+        self._data = np.full((max(capacity, 16), len(self.columns)), np.nan)
         self.n = 0
+        self._kwear = [i for i, c in enumerate(self.columns) if c.startswith("kwear_")]
 
     def append(self, row: np.ndarray) -> None:
         if self.n == self._data.shape[0]:
@@ -121,16 +124,17 @@ class TickLog:
 
     @property
     def rows(self) -> np.ndarray:
-        """(n, len(TICK_COLUMNS)) view of the filled rows."""
+        """(n, len(columns)) view of the filled rows."""
         return self._data[: self.n]
 
     def column(self, name: str) -> np.ndarray:
-        return self.rows[:, TICK_COLUMNS.index(name)]
+        return self.rows[:, self.columns.index(name)]
 
     @property
     def kwear(self) -> np.ndarray:
-        start = TICK_COLUMNS.index(f"kwear_{KWEAR_JOINTS[0]}")
-        return self.rows[:, start : start + len(KWEAR_JOINTS)]
+        if len(self._kwear) == len(KWEAR_JOINTS):  # the paper's five: a view
+            return self.rows[:, self._kwear[0]: self._kwear[0] + len(KWEAR_JOINTS)]
+        return self.rows[:, self._kwear]
 
 
 @dataclasses.dataclass

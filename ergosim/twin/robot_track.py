@@ -1,4 +1,4 @@
-"""The robot's side of the loop: dispatch an action to a Panda skill and step it with the physics.
+"""The robot's side of the loop: dispatch an action to a robot skill and step it with the physics.
 
 A robot action is :class:`~ergosim.robot.skills.PickPlace` (the robot puts the part on its target, seats
 it along its slot's axis, holds a fastener for its turns, or gives it to the receiver of a handover) or,
@@ -16,7 +16,7 @@ from __future__ import annotations
 import mujoco
 
 from ergosim.quat import to_mat
-from ergosim.robot.kinematics import PandaKinematics
+from ergosim.robot.kinematics import ArmKinematics
 from ergosim.robot.skills import Handover, PickPlace, SkillParams
 from ergosim.robot.status import SkillResult
 from ergosim.robot.trajectory import CONTACT_SPEED, TRANSIT_SPEED, MotionLimits
@@ -25,15 +25,16 @@ __all__ = ["RobotTrack", "RobotGroup"]
 
 
 class RobotTrack:
-    """One Panda in one workcell: ``robot`` its name (the task agent; default the cell's first robot).
+    """One robot in one workcell: ``robot`` its name (the task agent; default the cell's first robot).
     ``ee_speed`` [m/s]: TCP speed of contact-critical segments; ``transit_speed`` [m/s]: TCP speed of
     free-space transits. ``results``: every finished skill's result (with its time per phase), in order."""
 
     def __init__(self, cell, ee_speed: float = CONTACT_SPEED, transit_speed: float = TRANSIT_SPEED,
                  robot: str | None = None) -> None:
         self.cell = cell
-        self.name = cell.robot(robot).name
-        self.kin = PandaKinematics()
+        handle = cell.robot(robot)
+        self.name = handle.name
+        self.kin = ArmKinematics(handle.robot, cell.robot_home(handle.name))
         self.params = SkillParams(limits=MotionLimits(speed=ee_speed, transit_speed=transit_speed))
         self.skill = None
         self.result: SkillResult | None = None

@@ -1,7 +1,7 @@
 """One subject's repetitions in one mode: decisions (Algorithm 2), dispatch, completion, takt.
 
 The session owns the allocation logic of paper Fig. 1 and nothing physical: the plant steps the scene and
-the ergonomics, the worker track supplies the worker's frames, the robot track drives the Panda's skills.
+the ergonomics, the worker track supplies the worker's frames, the robot track drives the robots' skills.
 """
 
 from __future__ import annotations

@@ -9,6 +9,7 @@ the human's ``qpos``; at the ergonomics rate the *measured* frame's part scores 
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -16,6 +17,7 @@ import numpy as np
 from ergosim.ergonomics.rula import RULA_PARTS
 from ergosim.human.model import body_qpos
 from ergosim.posture import ANGLE_NAMES
+from ergosim.twin.features import FeatureScorer
 from ergosim.worker.ergonomics_tick import score_frames
 from ergosim.worker.motion import ActionMotion, Worker
 from ergosim.worker.stream import MocapStream
@@ -44,7 +46,10 @@ class Segment:
     (a held rest), so the body needs posing once. Views: ``true`` (n, 22) [deg], ``stance`` (n, 4)
     [m, m, deg, deg], ``measured``
     (n, 14) [deg] what the suit reports (NaN rows are dropouts), ``rula`` (n, 7) part scores in
-    :data:`RULA_PARTS` order and ``grand`` (n,), NaN on dropouts.
+    :data:`RULA_PARTS` order and ``grand`` (n,), NaN on dropouts. With a REBA index running (a
+    :class:`~ergosim.twin.features.FeatureScorer`): ``extra`` (n, k) its tick-log columns, and per feature
+    ``g_by`` (n, m) the risk index's inputs and ``whole_by`` (n,) the whole-body score (``rula``: ``g`` and
+    ``grand``).
     """
 
     motion: ActionMotion
@@ -55,6 +60,9 @@ class Segment:
     grasp_frame: int
     release_frame: int
     static: bool = False
+    extra: np.ndarray | None = None
+    g_by: dict = dataclasses.field(default_factory=dict)
+    whole_by: dict = dataclasses.field(default_factory=dict)
 
     @property
     def true(self) -> np.ndarray:
@@ -84,18 +92,21 @@ class Segment:
 class WorkerTrack:
     """Queues segments for one worker and hands out frames one control tick at a time."""
 
-    def __init__(self, worker: Worker, stream: MocapStream) -> None:
+    def __init__(self, worker: Worker, stream: MocapStream, scorer: FeatureScorer | None = None) -> None:
         self.worker = worker
         self.stream = stream
+        self.scorer = scorer
+        """Extra posture features to score (REBA), or None (RULA's only)."""
         self.segment: Segment | None = None
         self.index = 0
 
     @classmethod
     def for_subject(cls, subject: Subject, rng: np.random.Generator, *, rate: float,
-                    dropout_rate: float = 0.0, noise: bool | float = True) -> WorkerTrack:
+                    dropout_rate: float = 0.0, noise: bool | float = True,
+                    scorer: FeatureScorer | None = None) -> WorkerTrack:
         """``subject``'s worker and mocap stream at ``rate`` [Hz], the stream drawing from ``rng``."""
         return cls(Worker(subject, rate=rate),
-                   MocapStream(subject, rng, rate=rate, dropout_rate=dropout_rate, noise=noise))
+                   MocapStream(subject, rng, rate=rate, dropout_rate=dropout_rate, noise=noise), scorer)
 
     def _measure(self, motion: ActionMotion, acting: bool) -> Segment:
         frames = self.stream.measure(motion.angles)
@@ -107,7 +118,11 @@ class WorkerTrack:
         scores = np.column_stack([np.full(len(g), float(acting)), np.isnan(g[:, 0]), measured, parts, grand])
         qpos = body_qpos(motion.angles, motion.stances)
         static = bool((qpos == qpos[0]).all())
-        return Segment(motion, qpos, scores, g, acting, grasp, release, static)
+        if self.scorer is None:
+            return Segment(motion, qpos, scores, g, acting, grasp, release, static)
+        extra, g_by, whole_by = self.scorer.score(measured, motion, acting)
+        return Segment(motion, qpos, scores, g, acting, grasp, release, static, extra,
+                       {"rula": g, **g_by}, {"rula": grand, **whole_by})
 
     def start_action(self, motion: ActionMotion) -> Segment:
         self.segment, self.index = self._measure(motion, acting=True), 0

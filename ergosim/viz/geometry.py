@@ -1,10 +1,11 @@
 """Static scene geometry read from a compiled MjModel: per body, its visual geoms in the body frame.
 
 The result is plain data (no rerun types), so what is drawn can be tested against the model directly.
-Meshes loaded from a file (the Panda's example-robot-data STL files) keep their file: MuJoCo recentres
-and rotates mesh vertices at compile time (``mesh_pos``, ``mesh_quat``), so the pose of the *file's* frame
-in the body is the geom pose composed with the inverse of that offset. Meshes without a file (built from
-vertices in code) are taken from the compiled ``mesh_vert``/``mesh_face``, already in the geom frame.
+Meshes loaded from a file (a robot's OBJ and STL files in ``models/<robot>/assets``) keep their file:
+MuJoCo recentres and rotates mesh vertices at compile time (``mesh_pos``, ``mesh_quat``), so the pose of
+the *file's* frame in the body is the geom pose composed with the inverse of that offset. Meshes without a
+file (built from vertices in code) are taken from the compiled ``mesh_vert``/``mesh_face``, already in the
+geom frame.
 """
 
 from __future__ import annotations
@@ -74,15 +75,18 @@ class SceneBody:
 
 
 def default_body_groups(model: mujoco.MjModel, parts: Sequence[str] = ()) -> dict[str, str]:
-    """Groups by the workcells' naming: ``panda_*`` robot (a second robot's ``<name>.panda_*`` too),
-    ``human_*`` human, ``parts`` parts, else scene."""
+    """Groups by the workcells' make-up: ``human_*`` human, ``parts`` parts, a body whose tree from the
+    world carries hinge or slide joints robot (whatever its model), else scene."""
+    moving = (int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_SLIDE))
+    arms = {int(model.body_rootid[model.jnt_bodyid[j]]) for j in range(model.njnt)
+            if int(model.jnt_type[j]) in moving}
     groups = {}
     for b in range(1, model.nbody):
         name = model.body(b).name
-        if name.split(".")[-1].startswith("panda_"):
-            groups[name] = "robot"
-        elif name.startswith("human_"):
+        if name.startswith("human_"):
             groups[name] = "human"
+        elif int(model.body_rootid[b]) in arms:
+            groups[name] = "robot"
         elif name in parts:
             groups[name] = "parts"
         elif name:

@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ergosim.posture import KWEAR_JOINTS
+from ergosim.ergonomics.reba import REBA_JOINTS
 from ergosim.registry import Registry
 
 if TYPE_CHECKING:  # only read: the simulation does not know its words
@@ -55,16 +55,16 @@ def _threshold_reason(d: Decision) -> str:
                              v_th=np.broadcast_to(np.asarray(d.basis.v_th, dtype=float), shape))
 
 
-def _rula_reason(d: Decision) -> str:
+def _rula_reason(d: Decision, score: str = "RULA") -> str:
     """The static RULA baseline (§7.1): G(a_k) against G_th, then the worker's and the cheapest robot's
-    cost."""
+    cost; ``score`` names the whole-body score (``REBA`` for the static REBA baseline)."""
     b, action = d.basis, d.action
     hc = d.costs.get((action, b.human))
     rc = min((d.costs[(action, r)] for r in b.robots if (action, r) in d.costs), default=float("nan"))
     th = float(np.max(b.v_th))
     vh = np.asarray(d.v_hat[action])
     rel = "≥" if vh[int(np.argmax(vh))] >= th else "<"
-    return (f"{action} → {d.agent}: RULA G={vh[0] * b.scale:g} {rel} G_th {th * b.scale:g}"
+    return (f"{action} → {d.agent}: {score} G={vh[0] * b.scale:g} {rel} G_th {th * b.scale:g}"
             f" (human cost {hc:.2f}, robot cost {rc:.2f})")
 
 
@@ -72,9 +72,9 @@ def allocation_reason(chosen: tuple[str, str], *, v_hat: Mapping[str, np.ndarray
                       costs: Mapping[tuple[str, str], float], v_th: np.ndarray) -> str:
     """E.g. ``"a2 → robot: predicted shoulder KWear 0.83 ≥ V_th 0.80; cost robot 50.00 < worker 100.83"``.
 
-    ``chosen``: (action, agent). ``v_hat``: action -> (5,) predicted KWear in ``KWEAR_JOINTS`` order (the
-    worker doing that action). ``costs``: (action, agent) -> hyper-arc cost of the candidates.
-    ``v_th``: (5,) thresholds.
+    ``chosen``: (action, agent). ``v_hat``: action -> (5,) predicted KWear in ``KWEAR_JOINTS`` order, or (6,)
+    with the legs (KWear on REBA's part scores, ``REBA_JOINTS``), the worker doing that action. ``costs``:
+    (action, agent) -> hyper-arc cost of the candidates. ``v_th``: thresholds of the same shape.
     """
     action, agent = chosen
     parts = [_kwear_clause(v_hat.get(action), np.asarray(v_th, dtype=float))]
@@ -90,7 +90,7 @@ def _kwear_clause(v: np.ndarray | None, v_th: np.ndarray) -> str:
     if not np.any(np.isfinite(margin)):
         return "no KWear prediction"
     i = int(np.nanargmax(margin))
-    joint = KWEAR_JOINTS[i]
+    joint = REBA_JOINTS[i]  # KWEAR_JOINTS, then the legs of KWear on REBA's part scores
     if margin[i] >= 0:
         crossed = int(np.sum(margin >= 0))
         more = f" (+{crossed - 1} more joint{'s' if crossed > 2 else ''})" if crossed > 1 else ""
@@ -114,3 +114,4 @@ def _cost_clause(action: str, agent: str, costs: Mapping[tuple[str, str], float]
 
 register_reason("kwear", _threshold_reason)
 register_reason("rula-static", _rula_reason)
+register_reason("reba-static", lambda d: _rula_reason(d, "REBA"))
