@@ -79,22 +79,26 @@ def test_no_panda_specific_name_outside_the_pandas_module():
 
 
 def test_a_handover_pose_at_the_workers_face_is_refused_for_the_robot(capsys, tmp_path):
-    """The hand-over clearance rule: the multi-subject hand-over pose keeps the Panda 0.28-0.30 m from the
-    worker's head, neck and chest; moved in front of the worker's chest, the robot is refused every hand-over
-    before the physics, in one line each, and the worker does them; out of its reach, likewise."""
+    """The hand-over clearance rule: the multi-subject hand-overs, each presented at its own target (issue
+    23), keep the Panda 0.23-0.43 m from the worker's head, neck and chest; handed over at the cell's free
+    hand-over pose moved in front of the worker's chest, the robot is refused every hand-over before the
+    physics, in one line each, and the worker does them; out of its reach, likewise."""
     sc = load_scenario("multi-subject")
     cell = build_cell(sc.cell())
     clear = [handover_clearance(cell, cell.robot(), g) for g in cell.actions.values() if g.handover]
-    assert len(clear) == 4 and all(0.2 < c < 0.35 for c in clear)
+    assert len(clear) == 4 and all(0.2 < c < 0.45 for c in clear)
     assert robot_refusals(sc.task(), cell) == {}
-    near = load_scenario("multi-subject", {"scene.targets.handover.pos": "0.25,0.3,1.3"})
+    at_pose = {f"scene.actions.{a}.handover": "handover" for a in ("a1", "a2", "a3", "a4")}
+    near = load_scenario("multi-subject", {**at_pose, "scene.targets.handover.pos": "0.25,0.3,1.3"})
     refused = robot_refusals(near.task(), build_cell(near.cell()))
     assert set(refused) == {("a1", "robot"), ("a2", "robot"), ("a3", "robot"), ("a4", "robot")}
     assert all("from the worker's head, neck or chest (at least 0.2 m)" in why for why in refused.values())
+    sets = [x for k, v in at_pose.items() for x in ("--set", f"{k}={v}")]
     code = main(["run", "multi-subject", "--subjects", "1", "--reps", "1", "--mode", "r-only", "--quiet",
-                 "--set", "scene.targets.handover.pos=0.25,0.3,1.3", "--out", str(tmp_path / "o")])
+                 *sets, "--set", "scene.targets.handover.pos=0.25,0.3,1.3", "--out", str(tmp_path / "o")])
     out = capsys.readouterr().out
     assert code == 0 and out.count("holding") == 4 and "the human does it" in out
-    far = load_scenario("multi-subject", {"scene.targets.handover.pos": "0.15,0.3,1.35"})
-    assert all("handover is out of its reach" in why
-               for why in robot_refusals(far.task(), build_cell(far.cell())).values())
+    # behind the worker's right, out of the side-table robot's reach
+    far = load_scenario("multi-subject", {**at_pose, "scene.targets.handover.pos": "0.15,-0.5,1.35"})
+    refused = robot_refusals(far.task(), build_cell(far.cell()))
+    assert len(refused) == 4 and all("handover is out of its reach" in why for why in refused.values())

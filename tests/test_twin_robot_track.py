@@ -1,14 +1,16 @@
 """The robot's side of the loop: its two speeds as protocol fields, and the robot-only assembly of §7.2."""
 
+import json
+
 import numpy as np
 import pytest
 
 from ergosim.cli import main
 from ergosim.errors import ConfigError
-from ergosim.experiment.robot_timing import robot_only_runs, timing_summary
+from ergosim.experiment.robot_timing import ActionTiming, RobotOnlyRun, robot_only_runs, timing_summary
 from ergosim.experiment.runner import build_rig
 from ergosim.experiment.scenario import load_scenario, scenario_config
-from ergosim.robot.status import SKILL_PHASES
+from ergosim.robot.status import SKILL_PHASES, SkillResult, SkillStatus
 from ergosim.twin.robot_track import RobotTrack
 from ergosim.worker.subjects import make_subjects
 
@@ -58,10 +60,10 @@ def test_a_scenario_file_names_where_a_bad_speed_is(tmp_path):
 
 @pytest.mark.slow
 def test_the_robot_only_assembly_of_the_multi_subject_cell():
-    """Paper §7.2: the robot hands a1-a4 over (the worker inserts each and does a5). At 0.05 m/s in the
-    contact zones and 0.25 m/s in transit each handover takes the robot 9-12 s up to the worker's take;
-    the whole repetition, with the worker's part serial to the robot's, about a minute (it took 144 s at
-    0.05 m/s throughout)."""
+    """Paper §7.2: the robot hands a1-a4 over, presenting each part at its target (the worker pushes it
+    home and does a5). At 0.05 m/s in the contact zones and 0.25 m/s in transit each hand-over takes the
+    robot 8-13 s up to the worker's take; the whole repetition, with the worker's part serial to the
+    robot's, about a minute (it took 144 s at 0.05 m/s throughout)."""
     sc = load_scenario("multi-subject")
     runs = robot_only_runs(sc, 2)
     for run in runs:
@@ -73,7 +75,7 @@ def test_the_robot_only_assembly_of_the_multi_subject_cell():
         assert 45.0 < run.robot_time < 65.0
         assert run.robot_time < run.repetition < 100.0
         # reach, grasp and carry up to the handover pose: the part of the robot's time the worker waits for
-        assert all(6.0 < a.delivery < 12.0 for a in run.actions[:4])
+        assert all(6.0 < a.delivery < 13.0 for a in run.actions[:4])
         assert 0.6 * run.robot_time < run.delivery < 0.8 * run.robot_time
         for a in run.actions[:4]:
             r = a.robot
@@ -89,3 +91,18 @@ def test_the_robot_only_assembly_of_the_multi_subject_cell():
     summary = timing_summary(runs)
     assert summary["completed"] == 2 and set(summary["actions"]) == {"a1", "a2", "a3", "a4", "a5"}
     assert summary["repetition_mean_s"] == pytest.approx(np.mean([r.repetition for r in runs]))
+
+
+def test_a_robot_action_that_failed_is_counted_not_averaged():
+    """A robot action that never delivered its part (arrival NaN) enters no phase or delivery mean: the
+    summary says how many failed and stays valid JSON (a NaN made the fidelity report crash)."""
+    ok = SkillResult("pick_place", "J", SkillStatus.OK, "", 12.0, phases=(("transit", 8.0), ("contact", 4.0)),
+                     arrival=9.0)
+    failed = SkillResult("pick_place", "L", SkillStatus.UNREACHABLE, "no IK", 3.0, phases=(("transit", 3.0),))
+    actions = (ActionTiming("a1", "robot", "done", 12.5, ok),
+               ActionTiming("a2", "robot", "failed", 3.0, failed),
+               ActionTiming("a5", "human", "done", 3.0, None))
+    summary = timing_summary([RobotOnlyRun(0, "completed", 18.5, actions)])
+    assert summary["robot_failures"] == 1 and summary["delivery_mean_s"] == 9.0
+    assert summary["actions"]["a2"] == {"duration": 3.0}
+    json.dumps(summary, allow_nan=False)
