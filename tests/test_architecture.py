@@ -46,7 +46,7 @@ LAYER_ALLOWANCES = {
 # module -> (its line count cap, why it is one concept)
 MODULE_LINES = 400
 MODULE_ALLOWANCES = {
-    "ergosim/scenes/cellfile.py": (557, "one file format: a workcell file's keys, parsed and checked (with "
+    "ergosim/scenes/cellfile.py": (559, "one file format: a workcell file's keys, parsed and checked (with "
                                    "issue 27's bounds)"),
     "ergosim/sweep/design.py": (503, "one file format: a sweep file's axes, designs and cells"),
 }

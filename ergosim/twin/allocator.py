@@ -187,6 +187,11 @@ class Allocator:
                     out.setdefault((op.action, agent), op.name)
         return out
 
+    def excluded(self, pruned: set[tuple[str, str]]) -> set[tuple[str, str]]:
+        """The (action, agent) pairs this mode leaves out of its decisions now: the mode's and the robots'
+        refusals for the run, and the repetition's failures ``pruned``."""
+        return self.base_pruned | pruned
+
     def chosen(self, action: str, agent: str, v_now: np.ndarray, done: list[str],
                pruned: set[tuple[str, str]], time: float, repetition: int) -> Decision | None:
         """The :class:`Decision` for an (action, agent) chosen by someone else (a Gym policy), with this
@@ -196,7 +201,7 @@ class Allocator:
             return None
         done_actions = {self._action_of[o] for o in done}
         v_hat, costs, _ = self.price([a for a in self.graph.actions if a not in done_actions])
-        cut = self.base_pruned | pruned
+        cut = self.excluded(pruned)
         agents = self.allowed[action] - {a for (act, a) in cut if act == action}
         return Decision(time=time, repetition=repetition, v_now=np.array(v_now), v_hat=v_hat, costs=costs,
                         action=action, agent=agent, operation=operation, had_choice=len(agents) > 1,
