@@ -5,7 +5,7 @@
 Writes a synthetic recording (seeded) to a temporary directory, replays it ``--repeats`` times in-process
 and prints the medians [s]: the whole command, and parse, mapping, RULA + KWear, ticks.csv and
 summary.json on their own, as wall and CPU time (the CPU time is the wall time of an idle machine). The
-logic lives in ergosim.worker.bvh_benchmark.
+logic lives in ergosim.commands.replay_benchmark.
 
 Target (issue 28): 1 h of 60 Hz BVH in <= 2 s end to end.
 """
@@ -18,7 +18,7 @@ import os
 import tempfile
 
 from ergosim.atomic import write_json
-from ergosim.worker.bvh_benchmark import bench_bvh
+from ergosim.commands.replay_benchmark import bench_bvh
 
 TARGET_S = 2.0
 

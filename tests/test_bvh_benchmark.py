@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from ergosim.commands.replay_benchmark import STAGES, bench_bvh, synthetic_angles, write_synthetic_bvh
 from ergosim.human.joints import joint_spec
 from ergosim.posture import HUMAN_JOINTS
 from ergosim.worker.bvh import load_bvh
-from ergosim.worker.bvh_benchmark import STAGES, bench_bvh, synthetic_angles, write_synthetic_bvh
 
 
 def test_synthetic_angles_move_inside_the_ranges_of_motion():

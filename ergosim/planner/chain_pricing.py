@@ -15,6 +15,7 @@ still reach (an admissible bound for branch and bound and for the beam's reporte
 
 from __future__ import annotations
 
+from abc import ABC, abstractmethod
 from collections.abc import Iterable
 
 import numpy as np
@@ -27,7 +28,7 @@ from ergosim.planner.wear_chain import WearModel
 __all__ = ["Pricing", "SequentialPricing"]
 
 
-class Pricing:
+class Pricing(ABC):
     """The model's arrays in the graph's action and agent order, and the (action, agent) pairs this call
     allows (the graph's hyper-arcs minus ``pruned``)."""
 
@@ -153,21 +154,22 @@ class Pricing:
         return over + m.time_weight * (t1 - t0)
 
     # the interface of a pricing: start, step, estimate, dominance
+    @abstractmethod
     def start(self, v0, elapsed: float) -> tuple[np.ndarray, ...]:
-        raise NotImplementedError
+        """The state of the empty sequence from wear ``v0`` at ``elapsed`` [s] into the repetition."""
 
+    @abstractmethod
     def step(self, state, op, action, agent):
         """(state of the children, price of each step, its predicted start [s])."""
-        raise NotImplementedError
 
+    @abstractmethod
     def estimate(self, state, need: np.ndarray, *, lowest: bool, cids=None) -> np.ndarray:
         """What completing each row costs at least (``lowest``) or about (the beam's ranking; ``cids``: the
         rows' configuration ids)."""
-        raise NotImplementedError
 
+    @abstractmethod
     def end_wear(self, state) -> np.ndarray:
         """(n, p) the worker's V when the repetition of each (complete) sequence ends."""
-        raise NotImplementedError
 
     def terminal(self, state) -> np.ndarray:
         """What a complete sequence adds for the wear it leaves
