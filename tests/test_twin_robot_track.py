@@ -86,7 +86,9 @@ def test_the_robot_only_assembly_of_the_multi_subject_cell():
             # the action ends when the worker has inserted the part, which the robot had brought and let go
             # of; its way home may run on into the next action
             assert r.arrival + r.phase("wait") <= a.duration + 1e-9
-            assert 2.0 < r.phase("contact") < 5.0 and 3.0 < r.phase("transit") < 9.0
+            # transit from the park pose, turned away from the worker: a2's, to L at the side table's far
+            # end and on to J's upper hollow on the bench, is the longest (9.8-10.0 s at 0.25 m/s)
+            assert 2.0 < r.phase("contact") < 5.0 and 3.0 < r.phase("transit") < 11.0
     # the transit speed is what the robot's time is most sensitive to; ±10 % moves it by a few seconds
     for speed, sign in (("0.275", -1), ("0.225", 1)):
         other = robot_only_runs(sc.with_overrides({"transit_speed": speed}), 1)[0]

@@ -152,11 +152,12 @@ def build_cell(spec: CellSpec) -> Workcell:
     m, hands, human, prefixes = _assemble(spec)
     model, parks = build.finish(m, where=spec.source, robots=prefixes)
     cell = Workcell(spec, model, action_geometry(spec), hands, human=human, parks=parks)
-    check_clearance(spec, cell.model, cell.data, "park pose")  # nothing starts inside furniture (home keyframe)
-    # nor at the ready pose, where every robot's inverse kinematics starts and near which its transits pass
+    # nothing inside furniture at the ready pose, where every robot's inverse kinematics starts and near
+    # which its transits pass, nor at the park pose (the home keyframe), where each run starts
     for handle in cell.robot_handles.values():
         cell.data.qpos[handle.arm_qpos] = handle.robot.home
     mujoco.mj_kinematics(cell.model, cell.data)
     check_clearance(spec, cell.model, cell.data, "ready pose")
     cell.reset()
+    check_clearance(spec, cell.model, cell.data, "park pose")
     return cell
