@@ -80,10 +80,11 @@ def test_no_panda_specific_name_outside_the_pandas_module():
 
 def test_a_handover_pose_at_the_workers_neck_is_refused_for_the_robot(capsys, tmp_path):
     """The hand-over clearance rule: the multi-subject hand-overs, each presented at its own target (issue
-    23) where the plan has them, keep the Panda 0.32-0.46 m from the worker's head and neck (ISO/TS 15066 region 1); handed over at
-    the cell's free hand-over pose at 1.3 m in front of the chest it keeps 0.21-0.23 m (the chest is not a
-    hand-over region); moved up to 1.45 m, 0.19 m from the neck, the robot is refused every hand-over before
-    the physics, in one line each, and the worker does them; out of its reach, likewise."""
+    23) where the plan has them, keep the Panda 0.32-0.46 m from the worker's head and neck (ISO/TS 15066
+    region 1); handed over at the cell's free hand-over pose at 1.3 m in front of the chest it keeps
+    0.21-0.23 m (the chest is not a hand-over region); moved up to 1.45 m, 0.19 m from the neck, the robot
+    is refused every hand-over before the physics, in one line each, and the worker does them; out of its
+    reach, likewise."""
     sc = load_scenario("multi-subject")
     cell = build_cell(sc.cell())
     at = handover_poses(sc.task(), cell)  # L, S1, S2 at J's hollows once J is on the bench

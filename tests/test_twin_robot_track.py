@@ -62,8 +62,9 @@ def test_a_scenario_file_names_where_a_bad_speed_is(tmp_path):
 def test_the_robot_only_assembly_of_the_multi_subject_cell():
     """Paper §7.2: the robot hands a1-a4 over, presenting each part at its target (the worker pushes it
     home and does a5). At 0.05 m/s in the contact zones and 0.25 m/s in transit each hand-over takes the
-    robot 8-14 s up to the worker's take (43 s for the four, the paper's 38 s within 20 %); the whole repetition, with the worker's part serial to the
-    robot's, about a minute (it took 144 s at 0.05 m/s throughout)."""
+    robot 8-14 s up to the worker's take (43 s for the four, the paper's 38 s within 20 %); the whole
+    repetition, with the worker's part serial to the robot's, about a minute (it took 144 s at 0.05 m/s
+    throughout)."""
     sc = load_scenario("multi-subject")
     runs = robot_only_runs(sc, 2)
     for run in runs:

@@ -56,7 +56,8 @@ def test_the_ur5_on_the_pandas_base_is_refused_before_the_run(capsys):
                  "--reps", "1", "--quiet"])
     err = capsys.readouterr().err
     assert code == 2 and err.count("\n") == 1 and "Traceback" not in err
-    assert "robots.robot.base: the robot stands inside furniture 'bench': at its ready pose upper_arm_link" in err
+    assert ("robots.robot.base: the robot stands inside furniture 'bench': at its ready pose upper_arm_link"
+            in err)
 
 
 # the UR5 mounted where its ready pose clears the bench, handing over at the paper's pre-planned pose:

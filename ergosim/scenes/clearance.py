@@ -54,7 +54,8 @@ def _arm_geoms(model: mujoco.MjModel, base: str) -> list[int]:
             if model.body_rootid[model.geom_bodyid[g]] == root and _solid(model, g)]
 
 
-def check_clearance(spec: CellSpec, model: mujoco.MjModel, data: mujoco.MjData, pose: str = "ready pose") -> None:
+def check_clearance(spec: CellSpec, model: mujoco.MjModel, data: mujoco.MjData,
+                    pose: str = "ready pose") -> None:
     """Raise ConfigError if, at the current state (``pose`` names the robots' posture in the message), a
     robot's links or pedestal or a part penetrate furniture by more than :data:`PENETRATION`, or two robots
     touch. A robot may touch its own support."""
