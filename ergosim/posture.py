@@ -28,6 +28,17 @@ wrist_deviation        ulnar deviation; negative = radial deviation
 
 For the left arm the same names carry the same *anatomical* meaning (``left_shoulder_abduction`` > 0 is
 the left arm away from the body), so the joint axes are mirrored, not the signs.
+
+The worker also stands: :data:`STANCE` is where the pelvis stands and turns on the floor, in the worker's
+frame (the cell's worker position and facing), and how far the knees bend. RULA does not score it; it
+comes with every motion beside the posture, as a suit's pelvis position and knee angles do.
+
+=====================  =============================================================================
+pelvis_x               [m] forward step of the pelvis from the worker's position
+pelvis_y               [m] step to the left
+pelvis_rotation        [deg] the whole body turned to the left (feet, pelvis and all above)
+knee_flexion           [deg] both knees, 0 = straight; the pelvis lowers so that the feet stay flat
+=====================  =============================================================================
 """
 
 from __future__ import annotations
@@ -44,6 +55,7 @@ __all__ = [
     "ANGLE_NAMES",
     "LEFT_ARM",
     "HUMAN_JOINTS",
+    "STANCE",
     "KWEAR_JOINTS",
     "Posture",
     "neutral_posture",
@@ -68,7 +80,10 @@ ANGLE_NAMES: tuple[str, ...] = TRUNK + NECK + ARM
 
 LEFT_ARM: tuple[str, ...] = tuple(f"left_{n}" for n in ARM)
 HUMAN_JOINTS: tuple[str, ...] = ANGLE_NAMES + LEFT_ARM
-"""Every hinge of the kinematic human, in this order (22)."""
+"""Every posture hinge of the kinematic human, in this order (22)."""
+
+STANCE: tuple[str, ...] = ("pelvis_x", "pelvis_y", "pelvis_rotation", "knee_flexion")
+"""How the worker stands (4): pelvis step [m, m], turn [deg], knee flexion [deg]."""
 
 KWEAR_JOINTS = ("shoulder", "elbow", "wrist", "trunk", "neck")
 """Monitored joints i of the Kinematic Wear index (paper eq. 3), in the order of every (m,) array."""

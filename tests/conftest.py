@@ -80,10 +80,11 @@ def kv_two_subjects(tmp_path_factory) -> SharedRun:
 
 @pytest.fixture(scope="session")
 def forced_run(tmp_path_factory) -> SharedRun:
-    """The issue-14 example, shortened: the multi-subject cell with L out of the worker's reach
-    (l_xy=0.14,0.88), 1 subject, 2 repetitions, hrc, recorded. The robot's hyper-arcs cost 50 (the §7.1
-    figure) so that the planner offers every action to the worker first: each repetition's a2 is a worker
-    failure then a forced robot action, whatever the robot's timing."""
+    """The issue-14 example, shortened: the multi-subject cell with L (l_xy=0.14,0.88) out of the reach of a
+    worker whose feet stay planted, 1 subject, 2 repetitions, hrc, recorded. The robot's hyper-arcs cost 50
+    (the §7.1 figure) so that the planner offers every action to the worker first: each repetition's a2 is a
+    worker failure then a forced robot action, whatever the robot's timing."""
     args = ["multi-subject", "--subjects", "1", "--reps", "2", "--mode", "hrc", "--jobs", "1", "--quiet",
-            "--set", "scene.l_xy=0.14,0.88", "--set", "robot_cost=50"]
+            "--set", "scene.l_xy=0.14,0.88", "--set", "scene.worker.standing_area=0,0,0,0",
+            "--set", "scene.worker.max_turn=0", "--set", "robot_cost=50"]
     return shared_run(tmp_path_factory, "forced", args, rrd=True)

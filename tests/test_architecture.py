@@ -41,16 +41,13 @@ LAYER_ALLOWANCES: dict[tuple[str, str], str] = {}
 # module -> (its line count cap, why it is one concept)
 MODULE_LINES = 400
 MODULE_ALLOWANCES = {
-    "ergosim/scenes/cellfile.py": (557, "one file format: a workcell file's keys, parsed and checked (with "
+    "ergosim/scenes/cellfile.py": (559, "one file format: a workcell file's keys, parsed and checked (with "
                                    "issue 27's bounds)"),
     "ergosim/sweep/design.py": (503, "one file format: a sweep file's axes, designs and cells"),
 }
 # (module, function) -> its line count cap
 FUNCTION_LINES = 80
-FUNCTION_ALLOWANCES = {
-    ("ergosim/worker/ik.py", "solve"): 112,  # worker/ is the fidelity issue's
-    ("ergosim/worker/motion.py", "plan"): 113,  # worker/ is the fidelity issue's
-}
+FUNCTION_ALLOWANCES: dict[tuple[str, str], int] = {}
 # module -> the number of reads of a graph's private attributes it may still make
 GRAPH_PRIVATE_ALLOWANCES: dict[str, int] = {}
 

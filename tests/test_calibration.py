@@ -192,11 +192,18 @@ def test_store_errors(tmp_path):
         WorkerParams("S01").alpha("a1")
 
 
-def test_action_grand_score_is_the_score_held_longest():
-    from ergosim.ergonomics import action_grand_score  # noqa: PLC0415
+def test_action_grand_score_rules_on_worked_cases():
+    from ergosim.ergonomics.rula_action import G_RULE, action_grand_score, grand_scores_by_rule  # noqa: PLC0415
 
-    assert action_grand_score(np.array([3, 3, 3, 6, 6, 4.0])) == 3.0
-    assert action_grand_score(np.array([3, 3, 6, 6.0])) == 6.0  # a tie goes to the higher score
-    # pooled over executions: 2 ticks at 4 in the first, 3 at 5 in the second
-    assert action_grand_score([np.array([4, 4, 5.0]), np.array([5, 5, 3.0])]) == 5.0
+    assert G_RULE == "held-1s"
+    # 20 ticks per second: a 6 for 0.5 s, then a 5 for 1.2 s, then a 3 for 3 s
+    g = np.array([6.0] * 10 + [5.0] * 24 + [3.0] * 60)
+    assert grand_scores_by_rule(g) == {"held-longest": 3.0, "quarter": 5.0, "held-1s": 5.0, "worst": 6.0}
+    assert action_grand_score(np.array([3, 3, 6, 6.0]), "held-longest") == 6.0  # a tie: the higher score
+    # a dropout breaks a hold; executions are scored apart and their median taken
+    broken = np.array([5.0] * 15 + [np.nan] + [5.0] * 15 + [3.0] * 40)
+    assert action_grand_score(broken) == 3.0
+    assert action_grand_score([g, broken, g]) == 5.0
     assert math.isnan(action_grand_score(np.array([np.nan, np.nan])))
+    with pytest.raises(ValueError, match="unknown G rule"):
+        action_grand_score(g, "median")

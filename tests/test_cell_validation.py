@@ -156,9 +156,12 @@ def test_a_part_the_gripper_cannot_take_is_refused_for_the_robot(capsys, tmp_pat
 
 # -- a target no allowed agent can reach: the reachability pre-check -----------------------------------------
 def test_a_target_no_allowed_agent_can_reach(capsys, tmp_path):
-    """The worker stands back by 0.8 m: a5 (the worker's alone) cannot take J from where a1 puts it."""
+    """The worker stands back by 0.8 m: the first action in the plan's order that no allowed agent can do
+    is a4 (the worker is out of reach, and the robot's hand-over at a4's target, planned whole, has no IK
+    solution on its carry), named with both agents' reasons."""
     _refused(capsys, tmp_path, "multi-subject", "scene.worker_xy=-0.8,0",
-             needles=(MS, "actions.a5", "human cannot reach J for a5", "to outfeed at [",
+             needles=(MS, "actions.a4", "human or robot cannot reach S2 for a4",
+                      "human: out of the worker's reach", "robot: on the carry", "no IK solution at",
                       "the run would fail"))
 
 

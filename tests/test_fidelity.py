@@ -32,14 +32,16 @@ def _kv_summary(hrc: tuple[str, ...], rula: str = "HHHHH", g=None, joints=None) 
                                                                            "a5": "trunk"})}}
 
 
-def _ms_summary(share=0.38, by_action=None, overruns=2, h_overruns=0, p=0.001, lower=True, g=None) -> dict:
+def _ms_summary(share=0.38, by_action=None, rep_s=38.0, h_overruns=0, p=0.001, lower=True, g=None) -> dict:
     hrc_k, h_k = ([1.0] * 12, [2.0] * 12) if lower else ([2.0] * 12, [1.0] * 12)
+    reps = [{"duration_s": rep_s, "outcome": "completed"}] * 120
     return {"rula_g_by_action": dict(g or paper.G_MULTI_SUBJECT),
             "wilcoxon": {"p": p},
+            "config": {"takt_paced": False},
             "modes": {"hrc": {"robot_share": share,
                               "robot_share_by_action": dict(by_action or paper.ROBOT_SHARE_BY_ACTION),
-                              "repetitions_completed": 120, "repetitions_abandoned": 0,
-                              "takt_overruns": overruns, "kwear_integral_by_subject": hrc_k},
+                              "repetitions_completed": 120, "repetitions_abandoned": 0, "repetitions": reps,
+                              "takt_overruns": 0, "kwear_integral_by_subject": hrc_k},
                       "h-only": {"takt_overruns": h_overruns, "kwear_integral_by_subject": h_k}}}
 
 
@@ -74,11 +76,12 @@ SHARES_A1_FIRST = {"a1": 0.8, "a2": 0.7, "a3": 0.1, "a4": 0.1}
     (_ms(1, share=0.5), ("robot share of a1-a4",)),
     (_ms(0, by_action=SHARES_A1_FIRST), ("robot share a1 / a2", "a1 between")),
     (_ms(0, h_overruns=1), ("H-only repetitions over the takt",)),
-    (_ms(0, overruns=40), ("HRC repetitions over the takt",)),
+    (_ms(0, rep_s=50.0), ("mean HRC repetition",)),
     (_ms(0, lower=False), ("Wilcoxon",)),
     (lambda r: [_ms(s, g={"a1": 5, "a2": 5, "a3": 3, "a4": 3, "a5": 4})(r) for s in range(3)],
      ("riskiest action",)),
     (lambda r: r.robot_only.update({"repetition_mean_s": 50.0}), ("robot-only assembly",)),
+    (lambda r: r.robot_only.update({"delivery_mean_s": 46.0}), ("robot bringing",)),
 ])
 def test_each_rule_catches_its_departure(change, figures):
     runs = _runs()
@@ -126,8 +129,9 @@ def test_piece_distances_scale_about_the_worker_on_their_surface():
 
 REPRODUCED = (("§7.1", "Table 1, KWear allocation"), ("§7.1", "seeds holding that shape"),
               ("§7.1", "RULA-baseline allocation"), ("§7.2", "robot share of a1-a4"),
-              ("§7.2", "a3 and a4 to the robot"), ("§7.2", "HRC repetitions over the takt"),
-              ("§7.2", "H-only repetitions over the takt"), ("§7.2", "robot bringing"), ("§7.2", "G(a1..a5)"))
+              ("§7.2", "a3 and a4 to the robot"), ("§7.2", "mean HRC repetition"),
+              ("§7.2", "H-only repetitions over the takt"), ("§7.2", "robot bringing"), ("§7.2", "G(a1..a5)"),
+              ("§7.2", "riskiest action"))
 """Rows the quick form reproduces with a margin (docs/fidelity.md gives the full form's figures and explains
 every ✗). The quick form is seeded, so these are the same in every run; a change to the twin that breaks one
 of them fails CI."""
@@ -149,6 +153,15 @@ def test_quick_report_runs_end_to_end(tmp_path, capsys):
     for run in doc["runs"].values():  # every figure traces back to a run's files
         assert Path(run).exists(), run
 
+
+def test_each_paced_row_says_how_its_repetitions_were_paced():
+    rows = {r.figure: r for r in fidelity_rows(_runs(), FULL_BOUNDS)}
+    assert rows["robot share of a1-a4 (HRC)"].reading == "HRC: robot's rhythm, H only: chronometer"
+    g_row = next(r for r in rows.values() if r.figure.startswith("G(a1..a5)") and r.section == "§7.2")
+    assert rows["mean HRC repetition [s]"].reading and not g_row.reading
+    runs = _runs(ms={s: {**_ms_summary(), "config": {"takt_paced": True}} for s in range(3)})
+    readings = {r.reading for r in fidelity_rows(runs, FULL_BOUNDS) if r.reading}
+    assert readings == {"every mode at its takt slot"}
 
 
 def test_a_tie_between_loaded_joints_goes_to_the_seed_named_first():

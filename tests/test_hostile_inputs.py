@@ -133,8 +133,13 @@ def test_a_robot_out_of_reach_is_refused_before_the_run(tmp_path, capsys):
     assert not out.exists()
 
 
-FAR_ROBOT = ["--set", "scene.robot_base=0.94,-0.5,0.9", "--set", "scene.robots.robot.support=bench"]
-"""The Panda on the bench's far right corner: every piece and the handover pose are out of its reach."""
+FAR_ROBOT = ["--set", "scene.robot_base=0.94,-0.5,0.9", "--set", "scene.robots.robot.support=bench",
+             *[x for a in ("a1", "a2", "a3", "a4")
+               for x in ("--set", f"scene.actions.{a}.handover=handover")]]
+"""The Panda on the bench's far right corner, handing over at the cell's pre-planned pose: every piece on
+the side table and the hand-over pose are out of its reach (S1, on the bench, is within it, but not the
+pose it would be handed over at). Presented at J's hollows instead (the cell's default, issue 23), S1 and
+its hollow both lie within its reach sphere, and the robot tries a3."""
 
 
 def test_failed_robot_attempts_do_not_count_as_robot_actions(tmp_path, monkeypatch):

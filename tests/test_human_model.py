@@ -10,7 +10,8 @@ import pytest
 
 from ergosim.errors import ConfigError, ModelError
 from ergosim.human import HumanModel, human_spec, humanoid_xml, segment_lengths
-from ergosim.posture import HUMAN_JOINTS
+from ergosim.human.joints import DRIVEN_SPECS
+from ergosim.posture import HUMAN_JOINTS, STANCE
 
 MODELS = Path(__file__).resolve().parents[1] / "models" / "humanoid_upper"
 
@@ -48,13 +49,19 @@ def test_scene_compiles_and_steps_one_second_without_warning():
 def test_structure(human):
     model, hm = human
     names = {model.joint(i).name for i in range(model.njnt)}
-    assert names == set(HUMAN_JOINTS)
-    assert all(model.jnt_type[i] == mujoco.mjtJoint.mjJNT_HINGE for i in range(model.njnt))
+    driven = {j.name for j in DRIVEN_SPECS}
+    assert names == set(HUMAN_JOINTS) | set(STANCE) | driven
+    slides = {"pelvis_x", "pelvis_y", "pelvis_drop"}
+    for i in range(model.njnt):
+        kind = mujoco.mjtJoint.mjJNT_SLIDE if model.joint(i).name in slides else mujoco.mjtJoint.mjJNT_HINGE
+        assert model.jnt_type[i] == kind
     assert model.nu == 0
     assert np.all(model.geom_contype == 0) and np.all(model.geom_conaffinity == 0)
     assert np.all(model.jnt_limited == 1)
+    base = model.body("human_base")
+    assert base.jntnum[0] == 0 and model.body_parentid[base.id] == 0 and not base.pos.any()
     pelvis = model.body("human_pelvis")
-    assert pelvis.jntnum[0] == 0 and model.body_parentid[pelvis.id] == 0
+    assert model.body_parentid[pelvis.id] == base.id
     assert model.body_pos[pelvis.id][2] == pytest.approx(0.530 * 1.75)
     for site in ("human_hand_right", "human_hand_left", "human_eyes"):
         assert model.site(site).id >= 0
@@ -164,7 +171,7 @@ def test_attach_into_a_scene_keeps_canonical_names():
         '<worldbody><body name="bench" pos="0.5 0 0.4"><geom type="box" size="0.3 0.5 0.02"/></body>'
         "</worldbody></mujoco>")
     frame = parent.worldbody.add_frame(pos=[0.0, 0.3, 0.0])
-    frame.attach_body(human_spec(1.62, keyframe=None).body("human_pelvis"), "", "")
+    frame.attach_body(human_spec(1.62, keyframe=None).body("human_base"), "", "")
     with pytest.warns(UserWarning, match="empty prefix"):
         model = parent.compile()
     hm = HumanModel(model)

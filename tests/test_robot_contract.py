@@ -11,7 +11,7 @@ import pytest
 
 from ergosim.cli import main
 from ergosim.errors import ConfigError
-from ergosim.experiment.robot_refusals import handover_clearance, robot_refusals
+from ergosim.experiment.robot_refusals import handover_clearance, handover_poses, robot_refusals
 from ergosim.experiment.scenario import load_scenario
 from ergosim.robot import get_robot, robot_names
 from ergosim.robot.capability import refusal
@@ -78,23 +78,32 @@ def test_no_panda_specific_name_outside_the_pandas_module():
     assert not hits, "\n".join(hits)
 
 
-def test_a_handover_pose_at_the_workers_face_is_refused_for_the_robot(capsys, tmp_path):
-    """The hand-over clearance rule: the multi-subject hand-over pose keeps the Panda 0.28-0.30 m from the
-    worker's head, neck and chest; moved in front of the worker's chest, the robot is refused every hand-over
-    before the physics, in one line each, and the worker does them; out of its reach, likewise."""
+def test_a_handover_pose_at_the_workers_neck_is_refused_for_the_robot(capsys, tmp_path):
+    """The hand-over clearance rule: the multi-subject hand-overs, each presented at its own target (issue
+    23) where the plan has them, keep the Panda 0.32-0.46 m from the worker's head and neck (ISO/TS 15066
+    region 1); handed over at the cell's free hand-over pose at 1.3 m in front of the chest it keeps
+    0.21-0.23 m (the chest is not a hand-over region); moved up to 1.45 m, 0.19 m from the neck, the robot
+    is refused every hand-over before the physics, in one line each, and the worker does them; out of its
+    reach, likewise."""
     sc = load_scenario("multi-subject")
     cell = build_cell(sc.cell())
-    clear = [handover_clearance(cell, cell.robot(), g) for g in cell.actions.values() if g.handover]
-    assert len(clear) == 4 and all(0.2 < c < 0.35 for c in clear)
+    at = handover_poses(sc.task(), cell)  # L, S1, S2 at J's hollows once J is on the bench
+    clear = [handover_clearance(cell, cell.robot(), g, at[a]) for a, g in cell.actions.items() if g.handover]
+    assert len(clear) == 4 and all(0.3 < c < 0.6 for c in clear)
     assert robot_refusals(sc.task(), cell) == {}
-    near = load_scenario("multi-subject", {"scene.targets.handover.pos": "0.25,0.3,1.3"})
+    at_pose = {f"scene.actions.{a}.handover": "handover" for a in ("a1", "a2", "a3", "a4")}
+    chest = load_scenario("multi-subject", {**at_pose, "scene.targets.handover.pos": "0.25,0.3,1.3"})
+    assert robot_refusals(chest.task(), build_cell(chest.cell())) == {}
+    near = load_scenario("multi-subject", {**at_pose, "scene.targets.handover.pos": "0.25,0.3,1.45"})
     refused = robot_refusals(near.task(), build_cell(near.cell()))
     assert set(refused) == {("a1", "robot"), ("a2", "robot"), ("a3", "robot"), ("a4", "robot")}
-    assert all("from the worker's head, neck or chest (at least 0.2 m)" in why for why in refused.values())
+    assert all("from the worker's head or neck (at least 0.2 m)" in why for why in refused.values())
+    sets = [x for k, v in at_pose.items() for x in ("--set", f"{k}={v}")]
     code = main(["run", "multi-subject", "--subjects", "1", "--reps", "1", "--mode", "r-only", "--quiet",
-                 "--set", "scene.targets.handover.pos=0.25,0.3,1.3", "--out", str(tmp_path / "o")])
+                 *sets, "--set", "scene.targets.handover.pos=0.25,0.3,1.45", "--out", str(tmp_path / "o")])
     out = capsys.readouterr().out
     assert code == 0 and out.count("holding") == 4 and "the human does it" in out
-    far = load_scenario("multi-subject", {"scene.targets.handover.pos": "0.15,0.3,1.35"})
-    assert all("handover is out of its reach" in why
-               for why in robot_refusals(far.task(), build_cell(far.cell())).values())
+    # behind the worker's right, out of the side-table robot's reach
+    far = load_scenario("multi-subject", {**at_pose, "scene.targets.handover.pos": "0.15,-0.5,1.35"})
+    refused = robot_refusals(far.task(), build_cell(far.cell()))
+    assert len(refused) == 4 and all("handover is out of its reach" in why for why in refused.values())

@@ -103,7 +103,7 @@ def test_actions_geometry(kwear, multi):
         for g in wc.actions.values():
             assert wc.model.site(g.target).id >= 0
             assert wc.model.body(g.part).id >= 0
-    assert multi.actions["a2"].handover == "handover" and kwear.actions["a2"].handover is None
+    assert multi.actions["a2"].handover == "a2_present" and kwear.actions["a2"].handover is None
     assert multi.actions["a5"].kind == "remove"
 
 

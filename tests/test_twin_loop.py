@@ -80,6 +80,29 @@ def test_h_only_never_dispatches_to_the_robot(hrc_run):
     assert starts[1] == pytest.approx(cfg.pacing.takt, abs=1.0 / cfg.sensing.mocap_rate)
 
 
+def _repetition_starts(run) -> list[float]:
+    return [min(a.t_start for a in run.allocations if a.repetition == r) for r in (1, 2)]
+
+
+@pytest.mark.parametrize("takt_paced", [False, True])
+def test_hrc_is_paced_by_the_robot_unless_takt_paced(takt_paced):
+    """§7.2: in HRC "the assembly rhythm was marked by the robot executions" (``takt_paced = false``, the
+    scenario's default): the next repetition starts as soon as the last one ends. ``takt_paced = true``
+    starts every mode's repetitions at their takt slot."""
+    sc = load_scenario("multi-subject", {"repetitions": "2", "modes": "hrc",
+                                         "takt_paced": str(takt_paced).lower()})
+    assert sc.protocol.pacing.takt_paced is takt_paced
+    run = run_subject(sc, 0, 0, ("hrc",)).runs["hrc"]
+    first_end = max(a.t_end for a in run.allocations if a.repetition == 1)
+    assert first_end < sc.protocol.pacing.takt - 5.0  # shorter than the takt, so the two readings differ
+    expected = sc.protocol.pacing.takt if takt_paced else first_end
+    assert _repetition_starts(run)[1] == pytest.approx(expected, abs=1.0 / sc.protocol.sensing.mocap_rate)
+
+
+def test_the_multi_subject_scenario_paces_hrc_by_the_robot():
+    assert load_scenario("multi-subject").protocol.pacing.takt_paced is False
+
+
 def test_every_mode_covers_the_production_schedule(hrc_run):
     """A worker who finishes early rests to the end of repetitions × takt, so load proxies compare."""
     cfg, res = hrc_run

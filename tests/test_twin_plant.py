@@ -40,7 +40,7 @@ def test_every_action_frame_poses_the_human_where_its_model_puts_it(plant, monke
     for _ in range(seg.n // 2):
         plant.step()
         k = track.index - 1
-        plant.human.kin.set_angles(kin, seg.true[k])
+        plant.human.kin.set_body(kin, seg.true[k], seg.stance[k])  # the stepping worker: posture and stance
         scene_hand = cell.data.site_xpos[plant.human.hand_site["right"]]
         np.testing.assert_allclose(scene_hand, kin.site_xpos[plant.human.kin.hand_site["right"]], atol=1e-12)
     assert len(calls) == seg.n // 2

@@ -13,7 +13,10 @@ from ergosim.errors import ConfigError
 from ergosim.experiment.csv_files import write_allocations, write_ticks
 from ergosim.experiment.scenario import scenario_config
 from ergosim.experiment.summary import summarise, wilcoxon_between
+from ergosim.posture import KWEAR_JOINTS
 from ergosim.twin.records import TICK_COLUMNS, Allocation, SubjectRun, TickLog
+
+KWEAR_COLUMNS = [TICK_COLUMNS.index(f"kwear_{j}") for j in KWEAR_JOINTS]
 
 
 def _run(subject: int, mode: str, agents: list[str], kwear_level: float) -> SubjectRun:
@@ -26,7 +29,7 @@ def _run(subject: int, mode: str, agents: list[str], kwear_level: float) -> Subj
     ticks = TickLog(capacity=16)
     for k in range(40):
         row = np.zeros(len(TICK_COLUMNS))
-        row[-5:] = kwear_level
+        row[KWEAR_COLUMNS] = kwear_level
         ticks.append(row)
     return SubjectRun(subject, mode, allocs, ticks, 2, 1, 0.05, 0.8)
 

@@ -1,14 +1,16 @@
 """The robot's side of the loop: its two speeds as protocol fields, and the robot-only assembly of §7.2."""
 
+import json
+
 import numpy as np
 import pytest
 
 from ergosim.cli import main
 from ergosim.errors import ConfigError
-from ergosim.experiment.robot_timing import robot_only_runs, timing_summary
+from ergosim.experiment.robot_timing import ActionTiming, RobotOnlyRun, robot_only_runs, timing_summary
 from ergosim.experiment.runner import build_rig
 from ergosim.experiment.scenario import load_scenario, scenario_config
-from ergosim.robot.status import SKILL_PHASES
+from ergosim.robot.status import SKILL_PHASES, SkillResult, SkillStatus
 from ergosim.twin.robot_track import RobotTrack
 from ergosim.worker.subjects import make_subjects
 
@@ -58,10 +60,11 @@ def test_a_scenario_file_names_where_a_bad_speed_is(tmp_path):
 
 @pytest.mark.slow
 def test_the_robot_only_assembly_of_the_multi_subject_cell():
-    """Paper §7.2: the robot hands a1-a4 over (the worker inserts each and does a5). At 0.05 m/s in the
-    contact zones and 0.25 m/s in transit each handover takes the robot 9-12 s up to the worker's take;
-    the whole repetition, with the worker's part serial to the robot's, about a minute (it took 144 s at
-    0.05 m/s throughout)."""
+    """Paper §7.2: the robot hands a1-a4 over, presenting each part at its target (the worker pushes it
+    home and does a5). At 0.05 m/s in the contact zones and 0.25 m/s in transit each hand-over takes the
+    robot 8-14 s up to the worker's take (43 s for the four, the paper's 38 s within 20 %); the whole
+    repetition, with the worker's part serial to the robot's, about a minute (it took 144 s at 0.05 m/s
+    throughout)."""
     sc = load_scenario("multi-subject")
     runs = robot_only_runs(sc, 2)
     for run in runs:
@@ -72,8 +75,11 @@ def test_the_robot_only_assembly_of_the_multi_subject_cell():
         assert all(10.0 < t < 21.0 for t in robot), robot
         assert 45.0 < run.robot_time < 65.0
         assert run.robot_time < run.repetition < 100.0
-        # reach, grasp and carry up to the handover pose: the part of the robot's time the worker waits for
-        assert all(6.0 < a.delivery < 12.0 for a in run.actions[:4])
+        # reach, grasp and carry up to the handover pose: the part of the robot's time the worker waits for.
+        # The paper's fact is the sum (§7.2: about 38 s for a1-a4; the fidelity row's ±20 %); each action
+        # starts from the park pose turned away from the worker, a2's L furthest round (13.3-13.4 s)
+        assert all(6.0 < a.delivery < 15.0 for a in run.actions[:4])
+        assert 0.8 * 38.0 < sum(a.delivery for a in run.actions[:4]) < 1.2 * 38.0
         assert 0.6 * run.robot_time < run.delivery < 0.8 * run.robot_time
         for a in run.actions[:4]:
             r = a.robot
@@ -81,7 +87,9 @@ def test_the_robot_only_assembly_of_the_multi_subject_cell():
             # the action ends when the worker has inserted the part, which the robot had brought and let go
             # of; its way home may run on into the next action
             assert r.arrival + r.phase("wait") <= a.duration + 1e-9
-            assert 2.0 < r.phase("contact") < 5.0 and 3.0 < r.phase("transit") < 9.0
+            # transit from the park pose, turned away from the worker: a2's, to L at the side table's far
+            # end and on to J's upper hollow on the bench, is the longest (9.8-10.0 s at 0.25 m/s)
+            assert 2.0 < r.phase("contact") < 5.0 and 3.0 < r.phase("transit") < 11.0
     # the transit speed is what the robot's time is most sensitive to; ±10 % moves it by a few seconds
     for speed, sign in (("0.275", -1), ("0.225", 1)):
         other = robot_only_runs(sc.with_overrides({"transit_speed": speed}), 1)[0]
@@ -89,3 +97,18 @@ def test_the_robot_only_assembly_of_the_multi_subject_cell():
     summary = timing_summary(runs)
     assert summary["completed"] == 2 and set(summary["actions"]) == {"a1", "a2", "a3", "a4", "a5"}
     assert summary["repetition_mean_s"] == pytest.approx(np.mean([r.repetition for r in runs]))
+
+
+def test_a_robot_action_that_failed_is_counted_not_averaged():
+    """A robot action that never delivered its part (arrival NaN) enters no phase or delivery mean: the
+    summary says how many failed and stays valid JSON (a NaN made the fidelity report crash)."""
+    ok = SkillResult("pick_place", "J", SkillStatus.OK, "", 12.0, phases=(("transit", 8.0), ("contact", 4.0)),
+                     arrival=9.0)
+    failed = SkillResult("pick_place", "L", SkillStatus.UNREACHABLE, "no IK", 3.0, phases=(("transit", 3.0),))
+    actions = (ActionTiming("a1", "robot", "done", 12.5, ok),
+               ActionTiming("a2", "robot", "failed", 3.0, failed),
+               ActionTiming("a5", "human", "done", 3.0, None))
+    summary = timing_summary([RobotOnlyRun(0, "completed", 18.5, actions)])
+    assert summary["robot_failures"] == 1 and summary["delivery_mean_s"] == 9.0
+    assert summary["actions"]["a2"] == {"duration": 3.0}
+    json.dumps(summary, allow_nan=False)

@@ -47,8 +47,27 @@ def test_ergosim_run_gearbox_with_the_ur5(tmp_path, capsys):
     assert not _rows(out / "failures.csv")
 
 
+def test_the_ur5_on_the_pandas_base_is_refused_before_the_run(capsys):
+    """The multi-subject base is the Panda's, at the bench's corner: the UR5's ready pose, where its
+    inverse kinematics starts and near which its transits pass, holds its upper arm (its shoulder 0.09 m
+    above the side table, the bench 0.05 m higher) inside the bench. Parked, turned away, it cleared the
+    bench, and the run used to fail at the first grasp, the arm stopped against the bench; now one line."""
+    code = main(["run", "multi-subject", "--set", "scene.robots.robot.model=ur5", "--subjects", "1",
+                 "--reps", "1", "--quiet"])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1 and "Traceback" not in err
+    assert ("robots.robot.base: the robot stands inside furniture 'bench': at its ready pose upper_arm_link"
+            in err)
+
+
+# the UR5 mounted where its ready pose clears the bench, handing over at the paper's pre-planned pose:
+# from there S2's presentation at J's x hollow is 0.93 m from its shoulder, beyond its 0.85 m reach
+UR5_MOUNTED = {**UR5, "scene.robots.robot.base": "0.62,0.82,0.85",
+               **{f"scene.actions.{a}.handover": "handover" for a in ("a1", "a2", "a3", "a4")}}
+
+
 def test_the_multi_subject_cell_with_the_ur5_hands_parts_over(tmp_path):
-    sc = api.load("multi-subject", UR5, subjects=1, repetitions=2, modes=["r-only"], eta_max=2)
+    sc = api.load("multi-subject", UR5_MOUNTED, subjects=1, repetitions=2, modes=["r-only"], eta_max=2)
     cell = sc.cell()
     assert [r.model for r in cell.robots] == ["ur5"]
     res = api.run(sc, out=tmp_path / "multi-ur5")

@@ -27,8 +27,8 @@ ROOT = Path(__file__).resolve().parents[1]
 
 @pytest.fixture(scope="module")
 def recorded(forced_run):
-    """A real run with a failure in it (L beyond the worker's reach), recorded: the shared forced run
-    (tests/conftest.py)."""
+    """A real run with a failure in it (L beyond the reach of a worker whose feet stay planted), recorded: the
+    shared forced run (tests/conftest.py)."""
     assert forced_run.code == 0
     return forced_run.out, forced_run.rrd
 

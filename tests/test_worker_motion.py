@@ -9,8 +9,8 @@ import pytest
 from worker_scene import PointScene
 
 from ergosim.human import HumanModel
-from ergosim.posture import HUMAN_JOINTS
-from ergosim.worker import Subject, Worker, interpolate_keyframes, make_subject, min_jerk
+from ergosim.posture import HUMAN_JOINTS, STANCE
+from ergosim.worker import StandingArea, Subject, Worker, interpolate_keyframes, make_subject, min_jerk
 
 IDX = {n: i for i, n in enumerate(HUMAN_JOINTS)}
 GEOM = SimpleNamespace(action="a", part="part", kind="insert", target="target")
@@ -34,13 +34,13 @@ def test_hand_reaches_the_part_in_the_scene_within_2cm(worker, part_pos):
     scene, motion = _plan(worker, part_pos, worker_pos=(0.2, 0.3, 0.0), yaw=0.4)
     human = HumanModel(scene.model)
     k = int(np.searchsorted(motion.t, motion.t_grasp)) - 1  # last frame of the grasp phase
-    human.set_angles(scene.data, motion.angles[k])
+    human.set_body(scene.data, motion.angles[k], motion.stances[k])
     part = scene.body_pose("part")[0]
     assert np.linalg.norm(human.hand_pos(scene.data) - part) < 0.02
     assert np.linalg.norm(motion.hand_pos[k] - part) < 0.02
     # and the part is carried to the target
     k = int(np.searchsorted(motion.t, motion.t_release)) - 1
-    human.set_angles(scene.data, motion.angles[k])
+    human.set_body(scene.data, motion.angles[k], motion.stances[k])
     assert np.linalg.norm(human.hand_pos(scene.data) - scene.site_pose("target")[0]) < 0.02
 
 
@@ -68,18 +68,35 @@ def test_higher_shelf_raises_the_arm(worker):
     assert peak_elevation(high) > peak_elevation(low) + 25.0
 
 
-def test_farther_piece_bends_the_trunk(worker):
-    _, near = _plan(worker, (0.4, -0.2, 0.95))
-    _, far = _plan(worker, (0.85, -0.2, 0.95))
-    assert near.angles[:, IDX["trunk_flexion"]].max() < 5.0
-    assert far.angles[:, IDX["trunk_flexion"]].max() > 20.0
+PLANTED = StandingArea.planted()
 
 
-def test_target_behind_twists_the_trunk_and_near_low_flexes_the_neck(worker):
-    _, ledge = _plan(worker, (0.45, 0.0, 0.95), target_pos=(-0.1, -0.6, 1.2))
-    assert ledge.angles[:, IDX["trunk_rotation"]].min() < -30.0
+def test_farther_piece_bends_the_trunk_with_the_feet_planted_and_steps_when_free(worker):
+    _, near = _plan(worker, (0.4, -0.2, 0.95), standing_area=PLANTED)
+    _, far = _plan(worker, (0.85, -0.2, 0.95), standing_area=PLANTED)
+    assert near.angles[:, IDX["trunk_flexion"]].max() < 20.0
+    assert far.angles[:, IDX["trunk_flexion"]].max() > near.angles[:, IDX["trunk_flexion"]].max() + 20.0
+    assert not far.stances.any()
+    _, stepping = _plan(worker, (0.85, -0.2, 0.95))
+    assert stepping.stances[:, STANCE.index("pelvis_x")].max() > 0.1  # a step towards the piece
+    assert stepping.angles[:, IDX["trunk_flexion"]].max() < far.angles[:, IDX["trunk_flexion"]].max() - 10.0
+
+
+def test_target_to_the_side_turns_trunk_and_body_and_near_low_flexes_the_neck(worker):
+    _, ledge = _plan(worker, (0.45, 0.0, 0.95), target_pos=(-0.1, -0.6, 1.2), standing_area=PLANTED)
+    assert ledge.angles[:, IDX["trunk_rotation"]].min() < -10.0
+    assert ledge.angles[:, IDX["neck_rotation"]].min() < -20.0
+    _, turning = _plan(worker, (0.45, 0.0, 0.95), target_pos=(-0.1, -0.6, 1.2))
+    assert turning.stances[:, STANCE.index("pelvis_rotation")].min() < -45.0  # the body turns to the ledge
+    assert "TBC1" in turning.mtm
     _, close = _plan(worker, (0.3, -0.1, 0.9), target_pos=(0.35, 0.0, 0.9))
     assert close.angles[:, IDX["neck_flexion"]].max() > 25.0
+
+
+def test_a_low_target_bends_the_knees_and_times_bend_and_arise(worker):
+    _, low = _plan(worker, (0.45, 0.0, 0.95), target_pos=(0.4, 0.0, 0.25), standing_area=PLANTED)
+    assert low.stances[:, STANCE.index("knee_flexion")].max() > 30.0
+    assert " B " in f" {low.mtm} " and " AB" in f" {low.mtm}"
 
 
 def test_same_seed_same_motion(worker):

@@ -88,3 +88,37 @@ def test_worker_actions_take_mtm_time_at_the_subjects_pace():
     assert b.duration < 0.75 * a.duration
     assert a.mtm.startswith("R") and "P2SS AP2" in a.mtm
     assert 1.5 < a.duration < 6.0  # a reach-insert-return of a trained worker takes seconds, not tens
+
+
+def test_body_motions_are_mtm1_table_x():
+    from ergosim.worker.mtm import BODY_TMU, sidestep_tmu, turn_body_tmu  # noqa: PLC0415
+
+    assert sidestep_tmu(11 * 0.0254) == 0.0  # under 12 in: the step goes with the Reach or Move
+    assert sidestep_tmu(12 * 0.0254) == pytest.approx(17.0)
+    assert sidestep_tmu(20 * 0.0254) == pytest.approx(17.0 + 0.6 * 8)
+    assert turn_body_tmu(40.0) == 0.0 and turn_body_tmu(-60.0) == pytest.approx(18.6)
+    assert turn_body_tmu(120.0) == pytest.approx(2 * 18.6)
+    assert BODY_TMU["B"] == 29.0 and BODY_TMU["AB"] == 31.9
+
+
+def test_a_body_motion_and_its_hand_motion_take_the_longer_time_and_a_regrasp_adds_its_own():
+    from ergosim.worker.action_timing import action_timing, body_motion  # noqa: PLC0415
+    from ergosim.worker.mtm import reach_tmu, tmu_to_s, turn_tmu  # noqa: PLC0415
+
+    hands = np.zeros((11, 3))
+    hands[1:9] = [0.1, 0.0, 0.0]  # a 10 cm reach, no move, a 10 cm return
+    stances = np.zeros((11, 4))
+    stances[1:9] = [0.0, 0.5, 80.0, 40.0]  # a 50 cm sidestep, an 80 deg turn, a bend
+    still = action_timing(hands, seats=False)
+    moving = action_timing(hands, seats=False, stances=stances)
+    tmu, words = body_motion(stances[0], stances[2])
+    assert words == ["SS20C1", "TBC1", "B"]
+    assert tmu == pytest.approx(17.0 + 0.6 * (0.5 / 0.0254 - 12) + 18.6 + 29.0)
+    assert moving.durations[:2].sum() == pytest.approx(tmu_to_s(max(reach_tmu(0.1, "B"), tmu)))
+    assert still.durations[:2].sum() == pytest.approx(tmu_to_s(reach_tmu(0.1, "B")))
+    assert "SS20C1 TBC1 B" in moving.analysis and moving.analysis.endswith("SS20C1 TBC1 AB")
+    turned = action_timing(hands, seats=True, regrasp_deg=120.0)
+    assert "T120S G2" in turned.analysis
+    plain = action_timing(hands, seats=True)
+    extra = turned.durations[3:6].sum() - plain.durations[3:6].sum()
+    assert extra == pytest.approx(tmu_to_s(max(turn_tmu(120.0), 2.0) - 2.0 + 5.6), abs=0.05)

@@ -71,7 +71,7 @@ def test_rate_is_configurable(planned):
 def test_playback_moves_the_hand_along_the_motion(planned):
     _, scene, motion = planned
     play = MotionPlayback(scene.model)
-    play.load(motion.t, motion.angles)
+    play.load(motion.t, motion.angles, motion.stances)
     site = scene.model.site("human_hand_right").id
     for k in (0, len(motion.t) // 3, len(motion.t) // 2, len(motion.t) - 1):
         play.apply(scene.data, motion.t[k], kinematics=True)
@@ -90,4 +90,4 @@ def test_subjects_are_seeded_and_varied():
     assert 1.5 <= min(statures) and max(statures) <= 2.0 and np.std(statures) > 0.03
     assert len({s.speed for s in a}) == 12 and len({s.trunk_use for s in a}) == 12
     assert make_subject(np.random.default_rng(0), stature=1.62).stature == 1.62
-    assert Subject("x").spec().compile().nq == 22
+    assert Subject("x").spec().compile().nq == 22 + 4 + 6  # posture, stance, the joints following the knee

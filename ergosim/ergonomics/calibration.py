@@ -61,9 +61,9 @@ class ActionCalibration:
 
     ``alpha``: mean coefficient (eq. 9); ``alphas``: per execution; ``errors``: |V_hat - V_l| of each
     execution with the final mean; ``converged``: every error < ``v_des`` (else eta_max was reached);
-    ``rula_grand``: G(a_k), the whole-body score held longest (:mod:`ergosim.ergonomics.rula_action`): the
-    RULA grand score for the static RULA baseline, the REBA score when the executions carry REBA's (NaN if
-    no whole-body scores were given);
+    ``rula_grand``: G(a_k) under its rule ``G_RULE`` (:mod:`ergosim.ergonomics.rula_action`): the RULA grand
+    score for the static RULA baseline, the REBA score when the executions carry REBA's (NaN if no
+    whole-body scores were given);
     ``duration``: mean execution time [s]; ``dropouts``: non-finite rows over all executions.
     """
 
@@ -155,7 +155,7 @@ def calibrate_action(execute: Callable[[int], Execution | tuple], params: KWearP
         durations.append(float(dts.sum()))
         dropouts += int((~np.isfinite(g).all(axis=1)).sum())
         if grand is not None:
-            grands.append(grand[np.isfinite(grand)])
+            grands.append(grand)
         if len(alphas) < eta0:
             continue
         a = np.array(alphas)
@@ -165,7 +165,7 @@ def calibrate_action(execute: Callable[[int], Execution | tuple], params: KWearP
         converged = bool(np.all(errors < v_des))
         if converged or len(a) >= eta_max:
             break
-    g_rula = action_grand_score(grands)
+    g_rula = action_grand_score(grands, dt=float(np.median(dts)))
     return ActionCalibration(action, mean, len(a), a, errors, converged, float(v_des), g_rula,
                              float(np.mean(durations)), dropouts)
 

@@ -4,7 +4,7 @@
 starts and where the action takes it) and asks each robot's contract (:mod:`ergosim.robot.capability`)
 about every action the task allows it: the gripper's opening against the part, the payload against the
 mass carried (:func:`carried`), the reach sphere against the part and the target, and, at a hand-over, the
-clearance from the worker's head, neck and chest (ISO/TS 15066 body regions, :mod:`ergosim.scenes.park`).
+clearance from the worker's head and neck (ISO/TS 15066 body region 1, :mod:`ergosim.scenes.park`).
 An action a robot refuses is the worker's for the whole run.
 """
 
@@ -18,15 +18,27 @@ from ergosim.planner import AndOrGraph
 from ergosim.robot.capability import refusal
 from ergosim.robot.ik import solve_ik
 from ergosim.robot.kinematics import ArmKinematics
-from ergosim.scenes.park import HANDOVER_CLEARANCE, HEAD_AND_CHEST, clearance_to, robot_geoms
+from ergosim.scenes.park import HANDOVER_CLEARANCE, HEAD_AND_NECK, clearance_to, robot_geoms
 
-__all__ = ["robot_refusals", "plan_points", "carried", "handover_clearance"]
+__all__ = ["robot_refusals", "plan_points", "handover_poses", "carried", "handover_clearance"]
 
 
 def plan_points(task: AndOrGraph, cell) -> list[tuple[str, np.ndarray, np.ndarray]]:
     """(action, where its part lies when it starts, where the action takes it) [m, world] in the task's
     plan order: a placed part is at its target site, a seated one where its host is; a slot's site moves
     with its host (its offset turned with the host)."""
+    return [(action, start, end) for action, start, end, _ in _plan_walk(task, cell)]
+
+
+def handover_poses(task: AndOrGraph, cell) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """action -> its hand-over pose (position [m], quaternion wxyz; world) where the task's plan has it
+    when the action starts: a hand-over at a part's slot (the paper's parts presented at their hollows,
+    issue 23) is where that part has been placed by then, not where it was laid out."""
+    return {action: pose for action, _, _, pose in _plan_walk(task, cell) if pose is not None}
+
+
+def _plan_walk(task: AndOrGraph, cell):
+    """(action, start, end, hand-over pose or None) in the task's plan order (:func:`plan_points`)."""
     slots = cell.config.slots()
     pose = {p: cell.body_pose(p) for p in cell.parts}  # (pos, quat wxyz), as laid out
     start_pose = dict(pose)
@@ -37,23 +49,28 @@ def plan_points(task: AndOrGraph, cell) -> list[tuple[str, np.ndarray, np.ndarra
             part = host[part]
         return part
 
-    out = []
+    def site_now(name: str) -> tuple[np.ndarray, np.ndarray]:
+        """A site's pose now: one on a part (a slot, a presentation pose) turned and moved with that part
+        since the layout."""
+        p, q = cell.site_pose(name)
+        body = cell.model.body(cell.model.site(name).bodyid[0]).name
+        if body not in pose:
+            return p, q
+        (p0, q0), (p1, q1) = start_pose[body], pose[body]
+        turn = quat.to_mat(q1) @ quat.to_mat(q0).T
+        return p1 + turn @ (p - p0), quat.from_mat(turn @ quat.to_mat(q))
+
     for step in task.plan().steps:
         geom = cell.actions[step.action]
         start = pose[root(geom.part)][0]
+        handover = site_now(geom.handover) if geom.handover else None
         if geom.seats:
-            holder = slots[cell.config.action(step.action).target].host
-            p0, q0 = start_pose[holder]
-            p1, q1 = pose[holder]
-            offset = quat.to_mat(q1) @ quat.to_mat(q0).T @ (cell.site_pose(geom.target)[0] - p0)
-            end = p1 + offset
-            host[geom.part] = holder
+            end = site_now(geom.target)[0]
+            host[geom.part] = slots[cell.config.action(step.action).target].host
         else:
             end = cell.site_pose(geom.target)[0]
             pose[geom.part] = cell.site_pose(geom.target)
-        out.append((step.action, start, end))
-    return out
-
+        yield step.action, start, end, handover
 
 
 def carried(task: AndOrGraph, cell) -> dict[str, float]:
@@ -84,11 +101,12 @@ def robot_refusals(task: AndOrGraph, cell) -> dict[tuple[str, str], str]:
         allowed.setdefault(op.action, set()).update(op.agents)
     mass = carried(task, cell)
     points = {a: (s, e) for a, s, e in plan_points(task, cell)}
+    handovers = handover_poses(task, cell)
     out = {}
     for action, agents in allowed.items():
         geom = cell.actions[action]
         start = points[action][0]
-        end = cell.site_pose(geom.handover)[0] if geom.handover else points[action][1]
+        end = handovers[action][0] if geom.handover else points[action][1]
         for agent in sorted(agents & set(cell.robots)):
             handle = cell.robot(agent)
             shoulder, radius = _reach_sphere(cell, handle)
@@ -98,22 +116,23 @@ def robot_refusals(task: AndOrGraph, cell) -> dict[tuple[str, str], str]:
             why = refusal(handle.robot, action, geom.part, width, mass.get(action), not far,
                           far[0] if far else "")
             if why is None and geom.handover and _has_worker(cell):
-                clear = handover_clearance(cell, handle, geom)
+                clear = handover_clearance(cell, handle, geom, handovers[action])
                 if clear is None:
                     why = refusal(handle.robot, action, geom.part, width, None, False, geom.handover)
                 elif clear < HANDOVER_CLEARANCE:
                     why = (f"{handle.robot.name} cannot do {action}: holding {geom.part} out at "
-                           f"{geom.handover} it would come {clear:.2f} m from the worker's head, neck or "
-                           f"chest (at least {HANDOVER_CLEARANCE:g} m)")
+                           f"{geom.handover} it would come {clear:.2f} m from the worker's head or neck "
+                           f"(at least {HANDOVER_CLEARANCE:g} m)")
             if why is not None:
                 out[(action, agent)] = why
     return out
 
 
-def handover_clearance(cell, handle, geom) -> float | None:
-    """The robot's clearance [m] from the worker's head, neck and chest (at the worker's rest posture)
-    while it holds ``geom``'s part out at its hand-over pose, grasped as laid out (top-down at its grasp
-    site); None if no IK solution holds it there."""
+def handover_clearance(cell, handle, geom, at: tuple[np.ndarray, np.ndarray] | None = None) -> float | None:
+    """The robot's clearance [m] from the worker's head and neck (at the worker's rest posture)
+    while it holds ``geom``'s part out at its hand-over pose (``at``, position and quaternion wxyz, world:
+    where the plan has it, :func:`handover_poses`; the site as laid out if None), grasped as laid out
+    (top-down at its grasp site); None if no IK solution holds it there."""
     m, d = cell.model, cell.data
     kin = ArmKinematics(handle.robot)
     base_p, base_q = cell.robot_base_pose(handle.name)
@@ -122,7 +141,7 @@ def handover_clearance(cell, handle, geom) -> float | None:
     site = m.site(cell.grasp_site(geom.part)).id
     rel_p = quat.to_mat(part_q).T @ (d.site_xpos[site] - part_p)
     rel_r = quat.to_mat(part_q).T @ d.site_xmat[site].reshape(3, 3)
-    to_p, to_q = cell.site_pose(geom.handover)
+    to_p, to_q = at if at is not None else cell.site_pose(geom.handover)
     tcp_p, tcp_r = to_p + quat.to_mat(to_q) @ rel_p, quat.to_mat(to_q) @ rel_r
     for flip in (np.eye(3), np.diag([-1.0, -1.0, 1.0])):  # the grasp turned 180 deg about the TCP z
         res = solve_ik(kin, base_r.T @ (tcp_p - base_p), base_r.T @ tcp_r @ flip, kin.ready, restarts=4,
@@ -131,7 +150,7 @@ def handover_clearance(cell, handle, geom) -> float | None:
             saved = d.qpos.copy()
             d.qpos[handle.arm_qpos] = res.q
             mujoco.mj_kinematics(m, d)
-            regions = [m.geom(n).id for n in HEAD_AND_CHEST]
+            regions = [m.geom(n).id for n in HEAD_AND_NECK]
             clear = clearance_to(m, d, robot_geoms(m, handle.base), regions)
             d.qpos[:] = saved
             mujoco.mj_kinematics(m, d)
@@ -140,7 +159,7 @@ def handover_clearance(cell, handle, geom) -> float | None:
 
 
 def _has_worker(cell) -> bool:
-    return all(mujoco.mj_name2id(cell.model, mujoco.mjtObj.mjOBJ_GEOM, n) >= 0 for n in HEAD_AND_CHEST)
+    return all(mujoco.mj_name2id(cell.model, mujoco.mjtObj.mjOBJ_GEOM, n) >= 0 for n in HEAD_AND_NECK)
 
 
 def _reach_sphere(cell, handle) -> tuple[np.ndarray, float]:

@@ -22,6 +22,9 @@ from ergosim.twin.session import Session
 
 __all__ = ["ActionTiming", "RobotOnlyRun", "robot_only_runs", "timing_summary", "format_summary"]
 
+_HOME_TIMEOUT_S = 30.0
+"""Longest wait [s of simulated time] for the robot to finish its last action after the repetition ended."""
+
 
 @dataclasses.dataclass(frozen=True)
 class ActionTiming:
@@ -41,8 +44,14 @@ class ActionTiming:
 
     @property
     def delivery(self) -> float:
-        """When the robot had brought the part to its target or handover pose [s from dispatch]."""
+        """When the robot had brought the part to its target or handover pose [s from dispatch]; NaN for a
+        robot action that never got there (it failed)."""
         return 0.0 if self.robot is None else self.robot.arrival
+
+    @property
+    def failed(self) -> bool:
+        """A robot action whose part never reached its target or handover pose."""
+        return self.robot is not None and not np.isfinite(self.robot.arrival)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -61,8 +70,13 @@ class RobotOnlyRun:
 
     @property
     def delivery(self) -> float:
-        """Sum over the robot's actions of the time to bring the part to its target or handover pose [s]."""
-        return sum(a.delivery for a in self.actions)
+        """Sum over the robot's actions of the time to bring the part to its target or handover pose [s]
+        (the actions it delivered)."""
+        return sum(a.delivery for a in self.actions if not a.failed)
+
+    @property
+    def robot_failures(self) -> int:
+        return sum(a.failed for a in self.actions)
 
 
 def robot_only_runs(scenario: Scenario, subjects: int, seed: int = 0) -> list[RobotOnlyRun]:
@@ -75,9 +89,13 @@ def robot_only_runs(scenario: Scenario, subjects: int, seed: int = 0) -> list[Ro
         rng = np.random.default_rng(np.random.SeedSequence([seed, index]).spawn(2)[1])
         rig = build_rig(sc, subject, rng)
         allocator = make_allocator(sc, "r-only", rig, None)
+        plant = rig.plant
         session = Session(cfg=sc.protocol, mode="r-only", subject_index=index, worker=rig.worker,
-                          plant=rig.plant, robot=rig.robots, allocator=allocator, rng=rng)
+                          plant=plant, robot=rig.robots, allocator=allocator, rng=rng)
         run = session.run(1)
+        # the repetition may end while the last robot action's arm is still on its way home (the worker
+        # finishing a5 first): let it get there, so that action's skill result (its timing) exists
+        plant.run_until(lambda: not any(t.active for t in rig.robots.values()), _HOME_TIMEOUT_S)
         results = iter([r for track in rig.robots.values() for r in track.results])
         human = session.allocator.human
         actions = tuple(ActionTiming(a.action, a.agent, a.status, a.t_end - a.t_start,
@@ -96,13 +114,13 @@ def timing_summary(runs: list[RobotOnlyRun]) -> dict:
         for a in run.actions:
             row = per_action.setdefault(a.action, {"duration": []})
             row["duration"].append(a.duration)
-            if a.robot is not None:
+            if a.robot is not None and not a.failed:
                 for phase in SKILL_PHASES:
                     row.setdefault(phase, []).append(a.robot.phase(phase))
                 row.setdefault("worker_after", []).append(max(0.0, a.duration - a.robot.duration))
                 row.setdefault("delivery", []).append(a.delivery)
     reps = [r.repetition for r in runs]
-    return {
+    return {  # a robot action that failed counts in no phase nor delivery: "robot_failures" says how many
         "subjects": len(runs),
         "completed": sum(r.outcome == "completed" for r in runs),
         "repetition_mean_s": statistics.fmean(reps),
@@ -110,6 +128,7 @@ def timing_summary(runs: list[RobotOnlyRun]) -> dict:
         "repetition_max_s": max(reps),
         "robot_time_mean_s": statistics.fmean(r.robot_time for r in runs),
         "delivery_mean_s": statistics.fmean(r.delivery for r in runs),
+        "robot_failures": sum(r.robot_failures for r in runs),
         "actions": {a: {k: statistics.fmean(v) for k, v in row.items()} for a, row in per_action.items()},
     }
 
@@ -121,7 +140,8 @@ def format_summary(summary: dict) -> str:
              f"{summary['repetition_min_s']:.1f}, max {summary['repetition_max_s']:.1f}) over "
              f"{summary['subjects']} subject(s), {summary['completed']} completed; robot's own time "
              f"{summary['robot_time_mean_s']:.1f} s, of which bringing the parts "
-             f"{summary['delivery_mean_s']:.1f} s",
+             f"{summary['delivery_mean_s']:.1f} s" + (f"; {summary['robot_failures']} robot action(s) failed"
+                                                       if summary.get("robot_failures") else ""),
              "action " + " ".join(f"{c:>12}" for c in cols)]
     for action, row in summary["actions"].items():
         cells = (f"{row[c]:12.2f}" if c in row else f"{'-':>12}" for c in cols)

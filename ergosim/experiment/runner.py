@@ -181,7 +181,8 @@ def make_allocator(scenario: Scenario, mode_name: str, rig: Rig, calibration) ->
         if index is not rig.plant.kwear:
             rig.plant.indices.append(index)  # a stateful index of its own is fed the plant's ticks too
     build = mode.allocator or Allocator
-    return build(rig.graph, mode, index=index, cost=cost, planner=cfg.planner, refused=rig.refused)
+    order = {"tie": cfg.tie_break} if build is Allocator else {}  # the tie rule of Algorithm 1's dispatch
+    return build(rig.graph, mode, index=index, cost=cost, planner=cfg.planner, refused=rig.refused, **order)
 
 
 def _session(scenario: Scenario, index: int, subject: Subject, mode: str, rng: np.random.Generator,

@@ -20,6 +20,7 @@ from ergosim import quat
 from ergosim.errors import ConfigError
 from ergosim.experiment.robot_refusals import robot_refusals
 from ergosim.planner import AndOrGraph
+from ergosim.robot.capability import OUT_OF_REACH
 from ergosim.robot.robot_model import get_robot
 from ergosim.scenes import CellSpec
 
@@ -223,7 +224,8 @@ def check_reachability(scenario, task: AndOrGraph, cell) -> list[str]:
                     tried[agent] += 1
                     reason = (_robot_turn(start, geom, state, cell.config.seat_tolerance_deg)
                               or tracks[agent].skill_for(geom).plan_error())
-                    reached[agent] += reason is None
+                    beyond = refused.get((action, agent), "").endswith(OUT_OF_REACH)  # its reach sphere
+                    reached[agent] += reason is None and not beyond
                     reason = refused.get((action, agent)) or reason  # the contract takes it for the run
                     if reason is None:
                         able.append(agent)

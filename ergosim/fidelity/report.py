@@ -26,7 +26,8 @@ def report_text(rows: Sequence[Row], plan: Plan) -> str:
             section = r.section
             lines.append(section)
         mark = "✓" if r.ok else "✗"
-        lines.append(f"  {mark:4} {r.figure:<{w_fig}}  {r.paper:<{w_pap}}  {r.twin:<{w_twin}}  {r.bound}")
+        lines.append(f"  {mark:4} {r.figure:<{w_fig}}  {r.paper:<{w_pap}}  {r.twin:<{w_twin}}  {r.bound}"
+                     + (f"  [{r.reading}]" if r.reading else ""))
     passed = sum(r.ok for r in rows)
     lines.append(f"{passed} of {len(rows)} rows within their bounds")
     return "\n".join(lines)

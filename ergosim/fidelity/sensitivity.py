@@ -10,7 +10,8 @@ with everything else as calibrated. The parameters, as ``--set`` overrides of th
 - ``transit_speed``: the robot's free-space speed.
 
 A row per (parameter, factor) gives the figures that make the paper's shape: §7.1 seeds holding Table 1's
-shape, §7.2 robot share overall and per action, HRC overruns and the robot-only assembly time.
+shape, §7.2 robot share overall and per action, HRC overruns, the mean HRC repetition and the robot-only
+assembly time.
 """
 
 from __future__ import annotations
@@ -42,6 +43,8 @@ class SensitivityRow:
     robot_only_s: float
     rows_ok: int
     rows: int
+    hrc_repetition_s: float = float("nan")
+    """Mean HRC repetition [s] (the robot's rhythm, paper §7.2)."""
 
 
 _ON_SURFACE_MARGIN = 0.05
@@ -112,8 +115,11 @@ def _row(parameter: str, factor: float, runs: Runs, bounds: Bounds) -> Sensitivi
     actions = ("a1", "a2", "a3", "a4")
     by_action = {a: statistics.fmean(s["modes"]["hrc"]["robot_share_by_action"].get(a, 0.0) for s in ms)
                  for a in actions}
+    reps = [r["duration_s"] for s in ms for r in s["modes"]["hrc"].get("repetitions", [])
+            if r.get("duration_s") is not None]
     over = statistics.fmean(s["modes"]["hrc"]["takt_overruns"]
                             / max(1, s["modes"]["hrc"]["repetitions_completed"]) for s in ms)
     return SensitivityRow(parameter, factor, shape.twin,
                           statistics.fmean(s["modes"]["hrc"]["robot_share"] for s in ms), by_action, over,
-                          robot_only_time(runs.robot_only), sum(r.ok for r in checks), len(checks))
+                          robot_only_time(runs.robot_only), sum(r.ok for r in checks), len(checks),
+                          statistics.fmean(reps) if reps else float("nan"))

@@ -2,10 +2,20 @@
 segments that show it in a physics scene."""
 
 from ergosim.human.anthropometry import PROPORTIONS, SEGMENT_SCALES, Segments, segment_lengths
-from ergosim.human.joints import JOINT_SPECS, JointSpec, joint_spec
+from ergosim.human.joints import DRIVEN_SPECS, JOINT_SPECS, STANCE_SPECS, JointSpec, joint_spec
+from ergosim.human.legs import Legs
 from ergosim.human.mjcf import HOME_POSTURE, humanoid_xml
 from ergosim.human.mocap import MocapHuman, add_mocap_segments
-from ergosim.human.model import EYE_SITE, HAND_SITES, ROOT_BODY, HumanModel, HumanReadout, human_spec
+from ergosim.human.model import (
+    EYE_SITE,
+    HAND_SITES,
+    PELVIS_BODY,
+    ROOT_BODY,
+    HumanModel,
+    HumanReadout,
+    body_qpos,
+    human_spec,
+)
 
 __all__ = [
     "PROPORTIONS",
@@ -13,6 +23,9 @@ __all__ = [
     "Segments",
     "segment_lengths",
     "JOINT_SPECS",
+    "STANCE_SPECS",
+    "DRIVEN_SPECS",
+    "Legs",
     "JointSpec",
     "joint_spec",
     "HOME_POSTURE",
@@ -20,6 +33,8 @@ __all__ = [
     "EYE_SITE",
     "HAND_SITES",
     "ROOT_BODY",
+    "PELVIS_BODY",
+    "body_qpos",
     "HumanModel",
     "HumanReadout",
     "MocapHuman",

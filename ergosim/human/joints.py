@@ -11,21 +11,28 @@ Heckman, *The Clinical Measurement of Joint Motion*, AAOS 1994) for the neck, sh
 wrist; trunk flexion is measured from the vertical with the pelvis fixed, so it includes hip flexion
 (thoracolumbar 80 deg + hip); clavicle elevation (shrug) 0..40 deg follows Inman, Saunders & Abbott
 (1944, J Bone Joint Surg 26:1-30).
+
+Besides the 22 posture hinges, the body stands: :data:`STANCE_SPECS` are the pelvis's step and turn on the
+floor and the knees' flexion (:data:`ergosim.posture.STANCE`), and :data:`DRIVEN_SPECS` are the joints that
+follow the knee (the pelvis lowering, hips and ankles, the left knee) so that both feet stay flat where
+they stand (:mod:`ergosim.human.legs`). Knee flexion 0..135 deg is AAOS's active range; the pelvis may move
+0.6 m and turn 120 deg either way (the cell's standing area is tighter, :mod:`ergosim.worker.stance`).
 """
 
 from __future__ import annotations
 
 from typing import NamedTuple
 
-__all__ = ["JointSpec", "JOINT_SPECS", "joint_spec"]
+__all__ = ["JointSpec", "JOINT_SPECS", "STANCE_SPECS", "DRIVEN_SPECS", "joint_spec"]
 
 
 class JointSpec(NamedTuple):
-    """One hinge: canonical name, axis of the right (or midline) side, range [deg]."""
+    """One joint: name, axis of the right (or midline) side, range ([deg] for a hinge, [m] for a slide)."""
 
     name: str
     axis: tuple[float, float, float]
     range_deg: tuple[float, float]
+    kind: str = "hinge"
 
 
 _MIDLINE = (
@@ -60,11 +67,31 @@ JOINT_SPECS: tuple[JointSpec, ...] = (
     + _RIGHT_ARM
     + tuple(JointSpec(f"left_{j.name}", _mirror(j.axis), j.range_deg) for j in _RIGHT_ARM)
 )
-"""Every hinge; the names are :data:`ergosim.posture.HUMAN_JOINTS` (as a set; order is the kinematic tree)."""
+"""Every posture hinge; the names are :data:`ergosim.posture.HUMAN_JOINTS` (as a set; order is the kinematic
+tree)."""
 
-_BY_NAME = {j.name: j for j in JOINT_SPECS}
+STANCE_SPECS: tuple[JointSpec, ...] = (
+    JointSpec("pelvis_x", (1, 0, 0), (-0.6, 0.6), "slide"),
+    JointSpec("pelvis_y", (0, 1, 0), (-0.6, 0.6), "slide"),
+    JointSpec("pelvis_rotation", (0, 0, 1), (-120.0, 120.0)),
+    JointSpec("knee_flexion", (0, 1, 0), (0.0, 135.0)),  # the right knee; positive: the shank swings back
+)
+"""The stance joints, named as :data:`ergosim.posture.STANCE` (knee_flexion is the right knee's hinge)."""
+
+DRIVEN_SPECS: tuple[JointSpec, ...] = (
+    JointSpec("pelvis_drop", (0, 0, -1), (0.0, 0.5), "slide"),  # the range is set per body (mjcf.py)
+    JointSpec("hip_flexion", (0, -1, 0), (0.0, 67.5)),
+    JointSpec("ankle_dorsiflexion", (0, -1, 0), (0.0, 67.5)),
+    JointSpec("left_hip_flexion", (0, -1, 0), (0.0, 67.5)),
+    JointSpec("left_knee_flexion", (0, 1, 0), (0.0, 135.0)),
+    JointSpec("left_ankle_dorsiflexion", (0, -1, 0), (0.0, 67.5)),
+)
+"""Joints set from ``knee_flexion`` (never chosen on their own): hips and ankles take half the knee's angle
+each, so thighs and shanks of equal length keep the pelvis over the ankles and the feet flat."""
+
+_BY_NAME = {j.name: j for j in JOINT_SPECS + STANCE_SPECS + DRIVEN_SPECS}
 
 
 def joint_spec(name: str) -> JointSpec:
-    """The hinge spec of a canonical joint name (KeyError if unknown)."""
+    """The spec of a joint of the human by name (KeyError if unknown)."""
     return _BY_NAME[name]

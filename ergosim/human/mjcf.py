@@ -11,9 +11,10 @@ scene that already has ``visual``/``collision`` classes (a robot's) without a na
 from __future__ import annotations
 
 import math
+import re
 
 from ergosim.human.anthropometry import Segments
-from ergosim.human.joints import JOINT_SPECS, joint_spec
+from ergosim.human.joints import joint_spec
 
 __all__ = ["HOME_POSTURE", "humanoid_xml"]
 
@@ -30,9 +31,12 @@ def _vec(*xs: float) -> str:
     return " ".join(_num(x) for x in xs)
 
 
-def _joint(pad: str, name: str) -> str:
+def _joint(pad: str, name: str, range_: tuple[float, float] | None = None) -> str:
     j = joint_spec(name)
-    lo, hi = (math.radians(a) for a in j.range_deg)
+    lo, hi = range_ or j.range_deg
+    if j.kind == "slide":
+        return f'{pad}<joint name="{name}" type="slide" axis="{_vec(*j.axis)}" range="{_vec(lo, hi)}"/>'
+    lo, hi = math.radians(lo), math.radians(hi)
     return f'{pad}<joint name="{name}" axis="{_vec(*j.axis)}" range="{_vec(lo, hi)}"/>'
 
 
@@ -80,16 +84,42 @@ def _arm(s: Segments, side: str, pad: str) -> list[str]:
     ]
 
 
-def humanoid_xml(s: Segments, model_name: str = "humanoid_upper", keyframe: str | None = "home") -> str:
-    """The MJCF document of the human with segments ``s``; the root body ``human_pelvis`` has no joint.
+def _leg(s: Segments, side: str, pad: str) -> list[str]:
+    """Thigh -> shank -> foot for ``side``, hanging from the pelvis; their hinges follow the knee
+    (:mod:`ergosim.human.legs`)."""
+    h = s.stature
+    y = (-1.0 if side == "right" else 1.0) * 0.55 * s.hip_half_width
+    pre = "" if side == "right" else "left_"
+    p1, p2, p3 = (pad + "  " * k for k in range(1, 4))
+    return [
+        f'{pad}<body name="human_{side}_thigh" pos="{_vec(0, y, 0)}" gravcomp="1">',
+        _joint(p1, pre + "hip_flexion"),
+        _capsule(p1, f"human_{side}_thigh", (0, 0, 0), (0, 0, -s.thigh), 0.034 * h, mat="human_trousers"),
+        f'{p1}<body name="human_{side}_shank" pos="{_vec(0, 0, -s.thigh)}" gravcomp="1">',
+        _joint(p2, pre + "knee_flexion"),
+        _capsule(p2, f"human_{side}_shank", (0, 0, 0), (0, 0, -s.shank), 0.024 * h, mat="human_trousers"),
+        f'{p2}<body name="human_{side}_foot" pos="{_vec(0, 0, -s.shank)}" gravcomp="1">',
+        _joint(p3, pre + "ankle_dorsiflexion"),
+        _capsule(p3, f"human_{side}_foot", (-0.02 * h, 0, 0), (0.7 * s.foot, 0, 0), 0.02 * h,
+                 mat="human_trousers"),
+        f"{p2}</body>",
+        f"{p1}</body>",
+        f"{pad}</body>",
+    ]
 
-    The pelvis body sits at the hip-joint height above the parent frame's origin, so placing the parent frame
-    on the floor at the worker's position puts the person standing there, facing +x.
+
+def humanoid_xml(s: Segments, model_name: str = "humanoid_upper", keyframe: str | None = "home") -> str:
+    """The MJCF document of the human with segments ``s``.
+
+    The root body ``human_base`` has no joint and sits on the floor at the worker's position, facing +x:
+    attach it to a frame there. The pelvis above it steps (``pelvis_x``, ``pelvis_y``), turns
+    (``pelvis_rotation``) and lowers with the knees (``knee_flexion`` and the joints that follow it).
     """
     h = s.stature
     hip_y = 0.55 * s.hip_half_width
-    ankle = -(s.thigh + s.shank)
     sh_z = s.lumbar_to_c7 - s.c7_to_shoulder
+    knee_max = math.radians(joint_spec("knee_flexion").range_deg[1])
+    drop_max = (s.thigh + s.shank) * (1.0 - math.cos(0.5 * knee_max))
     lines = [
         f'<mujoco model="{model_name}">',
         '  <compiler angle="radian" autolimits="true"/>',
@@ -115,46 +145,42 @@ def humanoid_xml(s: Segments, model_name: str = "humanoid_upper", keyframe: str 
         "  </asset>",
         "",
         "  <worldbody>",
-        f'    <body name="human_pelvis" childclass="human" pos="{_vec(0, 0, s.hip_height)}" gravcomp="1">',
-        _capsule("      ", "human_pelvis", (0, -hip_y, 0.03 * h), (0, hip_y, 0.03 * h), 0.055 * h,
+        '    <body name="human_base" childclass="human">',
+        f'      <body name="human_pelvis" pos="{_vec(0, 0, s.hip_height)}" gravcomp="1">',
+        *(_joint("        ", n) for n in ("pelvis_x", "pelvis_y", "pelvis_rotation")),
+        _joint("        ", "pelvis_drop", (0.0, drop_max)),
+        _capsule("        ", "human_pelvis", (0, -hip_y, 0.03 * h), (0, hip_y, 0.03 * h), 0.055 * h,
                  mat="human_trousers"),
+        *_leg(s, "right", "        "),
+        *_leg(s, "left", "        "),
     ]
-    for side, y in (("right", -hip_y), ("left", hip_y)):
-        lines += [
-            _capsule("      ", f"human_{side}_thigh", (0, y, 0), (0, y, -s.thigh), 0.034 * h,
-                     mat="human_trousers"),
-            _capsule("      ", f"human_{side}_shank", (0, y, -s.thigh), (0, y, ankle), 0.024 * h,
-                     mat="human_trousers"),
-            _capsule("      ", f"human_{side}_foot", (-0.02 * h, y, ankle), (0.7 * s.foot, y, ankle),
-                     0.02 * h,
-                     mat="human_trousers"),
-        ]
+    p1, p2, p3 = "        ", "          ", "            "
     lines += [
-        f'      <body name="human_torso" pos="{_vec(0, 0, s.lumbar_above_hip)}" gravcomp="1">',
-        *(_joint("        ", n) for n in ("trunk_flexion", "trunk_lateral_bend", "trunk_rotation")),
-        _capsule("        ", "human_abdomen", (0, -0.5 * s.chest_half_width, 0.04 * h),
+        f'{p1}<body name="human_torso" pos="{_vec(0, 0, s.lumbar_above_hip)}" gravcomp="1">',
+        *(_joint(p2, n) for n in ("trunk_flexion", "trunk_lateral_bend", "trunk_rotation")),
+        _capsule(p2, "human_abdomen", (0, -0.5 * s.chest_half_width, 0.04 * h),
                  (0, 0.5 * s.chest_half_width, 0.04 * h), 0.06 * h, mat="human_cloth"),
-        _capsule("        ", "human_spine", (0, 0, 0.04 * h), (0, 0, sh_z - 0.05 * h), 0.065 * h,
-                 mat="human_cloth"),
-        _capsule("        ", "human_chest", (0, -0.75 * s.chest_half_width, sh_z - 0.045 * h),
+        _capsule(p2, "human_spine", (0, 0, 0.04 * h), (0, 0, sh_z - 0.05 * h), 0.065 * h, mat="human_cloth"),
+        _capsule(p2, "human_chest", (0, -0.75 * s.chest_half_width, sh_z - 0.045 * h),
                  (0, 0.75 * s.chest_half_width, sh_z - 0.045 * h), 0.06 * h, mat="human_cloth"),
-        f'        <body name="human_head" pos="{_vec(0, 0, s.lumbar_to_c7)}" gravcomp="1">',
-        *(_joint("          ", n) for n in ("neck_flexion", "neck_lateral_bend", "neck_rotation")),
-        _capsule("          ", "human_neck", (0, 0, -0.01 * h), (0.01 * h, 0, 0.5 * s.c7_to_eye), 0.028 * h),
-        _capsule("          ", "human_head", (0.02 * h, 0, s.c7_to_eye - 0.03 * h),
+        f'{p2}<body name="human_head" pos="{_vec(0, 0, s.lumbar_to_c7)}" gravcomp="1">',
+        *(_joint(p3, n) for n in ("neck_flexion", "neck_lateral_bend", "neck_rotation")),
+        _capsule(p3, "human_neck", (0, 0, -0.01 * h), (0.01 * h, 0, 0.5 * s.c7_to_eye), 0.028 * h),
+        _capsule(p3, "human_head", (0.02 * h, 0, s.c7_to_eye - 0.03 * h),
                  (0.02 * h, 0, s.c7_to_eye + s.head_top_above_eye - 0.055 * h), 0.055 * h),
-        f'          <site name="human_eyes" pos="{_vec(s.eye_forward, 0, s.c7_to_eye)}"/>',
-        "        </body>",
-        *_arm(s, "right", "        "),
-        *_arm(s, "left", "        "),
+        f'{p3}<site name="human_eyes" pos="{_vec(s.eye_forward, 0, s.c7_to_eye)}"/>',
+        f"{p2}</body>",
+        *_arm(s, "right", p2),
+        *_arm(s, "left", p2),
+        f"{p1}</body>",
         "      </body>",
         "    </body>",
         "  </worldbody>",
     ]
     if keyframe:
-        # JOINT_SPECS lists the hinges in the order of their bodies in the tree, which is the qpos order.
-        qpos = [math.radians(HOME_POSTURE.get(j.name, 0.0)) for j in JOINT_SPECS]
+        # the key lists every joint in the order written above, which is the qpos order
+        names = re.findall(r'<joint name="([^"]+)"', "\n".join(lines))
+        qpos = [math.radians(HOME_POSTURE.get(n, 0.0)) for n in names]
         lines += ["", "  <keyframe>", f'    <key name="{keyframe}" qpos="{_vec(*qpos)}"/>', "  </keyframe>"]
     lines += ["</mujoco>", ""]
     return "\n".join(lines)
-

@@ -19,7 +19,7 @@ import numpy as np
 
 from ergosim.errors import ModelError
 from ergosim.human.mjcf import HOME_POSTURE
-from ergosim.human.model import HumanModel, HumanReadout
+from ergosim.human.model import HumanModel, HumanReadout, body_qpos
 from ergosim.posture import HUMAN_JOINTS, Posture
 
 __all__ = ["add_mocap_segments", "MocapHuman"]
@@ -95,14 +95,16 @@ class MocapHuman(HumanReadout):
 
     # -- driving ---------------------------------------------------------------------------------------------
     def _fk(self, qpos: np.ndarray) -> mujoco.MjData:
-        """Forward kinematics of the articulated model at the 22 angles [rad]; its data."""
+        """Forward kinematics of the articulated model at the 22 angles [rad] (a (26,) body vector also sets
+        the stance, :func:`~ergosim.human.model.body_qpos`); its data."""
         kd = self.kin_data
-        kd.qpos[self._qadr] = qpos
+        self.kin.write_body(kd.qpos, qpos)
         mujoco.mj_kinematics(self.kin_model, kd)
         return kd
 
     def pose(self, data: mujoco.MjData, qpos: np.ndarray, qvel: np.ndarray | None = None) -> None:
-        """Set the 22 angles [rad]: forward kinematics of the articulated model, then the segments' world
+        """Set the 22 angles [rad] (or a (26,) body vector with the stance): forward kinematics of the
+        articulated model, then the segments' world
         poses into ``data.mocap_pos``/``mocap_quat`` (in effect from the next ``mj_step``/``mj_kinematics``).
         ``qvel`` is accepted for the same call as :meth:`HumanModel.pose` and unused: mocap bodies have no
         velocity state."""
@@ -126,10 +128,12 @@ class MocapHuman(HumanReadout):
         self.set_angles(data, angles)
 
     # -- reading ---------------------------------------------------------------------------------------------
-    def segment_pose_at(self, angles_deg: np.ndarray, body: str) -> tuple[np.ndarray, np.ndarray]:
+    def segment_pose_at(self, angles_deg: np.ndarray, body: str,
+                        stance: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """World pose (position (3,) [m], quaternion (4,) wxyz) segment ``body`` would have at (22,) angles
-        [deg], from the articulated model alone (the scene is untouched)."""
-        kd = self._fk(np.deg2rad(np.asarray(angles_deg, dtype=float)))
+        [deg] and (4,) ``stance`` [m, m, deg, deg], from the articulated model alone (the scene is
+        untouched)."""
+        kd = self._fk(body_qpos(angles_deg, stance))
         b = self.kin_model.body(body).id
         return kd.xpos[b].copy(), kd.xquat[b].copy()
 

@@ -13,12 +13,16 @@ import numpy as np
 
 from ergosim.errors import ModelError
 from ergosim.human.anthropometry import segment_lengths
+from ergosim.human.legs import Legs
 from ergosim.human.mjcf import humanoid_xml
-from ergosim.posture import HUMAN_JOINTS, Posture
+from ergosim.posture import HUMAN_JOINTS, STANCE, Posture
 
-__all__ = ["HAND_SITES", "EYE_SITE", "ROOT_BODY", "human_spec", "HumanModel", "HumanReadout"]
+__all__ = ["HAND_SITES", "EYE_SITE", "ROOT_BODY", "PELVIS_BODY", "human_spec", "HumanModel", "HumanReadout",
+           "body_qpos"]
 
-ROOT_BODY = "human_pelvis"
+ROOT_BODY = "human_base"
+"""The human's root: on the floor at the worker's position, facing +x; it never moves."""
+PELVIS_BODY = "human_pelvis"
 HAND_SITES = {"right": "human_hand_right", "left": "human_hand_left"}
 EYE_SITE = "human_eyes"
 SHOULDER_BODIES = {"right": "human_right_upper_arm", "left": "human_left_upper_arm"}
@@ -28,11 +32,26 @@ def human_spec(stature: float = 1.75, scale: Mapping[str, float] | None = None,
                keyframe: str | None = "home") -> mujoco.MjSpec:
     """MjSpec of the human upper body for ``stature`` [m] with optional per-segment multipliers.
 
-    The root body ``human_pelvis`` has no joint and carries the hip height in its ``pos``: attach it to a
-    frame on the floor at the worker's position (facing +x of that frame). Pass ``keyframe=None`` when
+    The root body ``human_base`` has no joint: attach it to a frame on the floor at the worker's position
+    (facing +x of that frame). The pelvis above it carries the stance joints (:data:`ergosim.posture.STANCE`).
+    Pass ``keyframe=None`` when
     attaching into a scene that defines its own ``home`` keyframe.
     """
     return mujoco.MjSpec.from_string(humanoid_xml(segment_lengths(stature, scale), keyframe=keyframe))
+
+
+_N = len(HUMAN_JOINTS)
+_BODY_SCALE = np.concatenate([np.full(_N, np.pi / 180.0), [1.0, 1.0, np.pi / 180.0, np.pi / 180.0]])
+
+
+def body_qpos(angles_deg: np.ndarray, stance: np.ndarray | None = None) -> np.ndarray:
+    """The qpos values [rad, m] of a posture (..., 22) [deg] and a stance (..., 4) [m, m, deg, deg]
+    (:data:`~ergosim.posture.STANCE`; None: standing straight on the spot), as one (..., 26) array in
+    HUMAN_JOINTS + STANCE order: what :meth:`HumanModel.pose` and :meth:`MocapHuman.pose` take."""
+    angles = np.asarray(angles_deg, dtype=float)
+    if stance is None:
+        stance = np.zeros(angles.shape[:-1] + (len(STANCE),))
+    return np.concatenate([angles, np.asarray(stance, dtype=float)], axis=-1) * _BODY_SCALE
 
 
 class HumanReadout:
@@ -85,6 +104,10 @@ class HumanModel(HumanReadout):
         self.root_body = self._id(mujoco.mjtObj.mjOBJ_BODY, ROOT_BODY)
         self.shoulder_body = {side: self._id(mujoco.mjtObj.mjOBJ_BODY, n)
                               for side, n in SHOULDER_BODIES.items()}
+        self.pelvis_body = self._id(mujoco.mjtObj.mjOBJ_BODY, PELVIS_BODY)
+        self.stance_qadr = np.array([model.jnt_qposadr[self._id(mujoco.mjtObj.mjOBJ_JOINT, n)]
+                                     for n in STANCE])
+        self.legs = Legs(model)
 
     def _id(self, kind: mujoco.mjtObj, name: str) -> int:
         i = mujoco.mj_name2id(self.model, kind, name)
@@ -110,10 +133,25 @@ class HumanModel(HumanReadout):
         """Write (22,) canonical angles [deg] (HUMAN_JOINTS order) into ``qpos`` in place."""
         qpos[self.qadr] = np.deg2rad(angles_deg)
 
+    def write_body(self, qpos: np.ndarray, body: np.ndarray) -> None:
+        """Write a body vector (22,) [rad] or (26,) [rad, m] (:func:`body_qpos`) into ``qpos`` in place: the
+        posture, and with 26 values the stance and the joints that follow the knee."""
+        qpos[self.qadr] = body[:_N]
+        if len(body) > _N:
+            qpos[self.stance_qadr[:3]] = body[_N:_N + 3]
+            self.legs.write(qpos, body[_N + 3])
+
     def pose(self, data: mujoco.MjData, qpos: np.ndarray, qvel: np.ndarray | None = None) -> None:
-        """Write the 22 angles [rad] (and their rates [rad/s], else zero) into ``data``; no kinematics."""
-        data.qpos[self.qadr] = qpos
-        data.qvel[self.dofadr] = 0.0 if qvel is None else qvel
+        """Write the 22 angles [rad] (and their rates [rad/s], else zero) into ``data``, or a (26,) body
+        vector with the stance (:func:`body_qpos`); no kinematics."""
+        self.write_body(data.qpos, qpos)
+        data.qvel[self.dofadr] = 0.0 if qvel is None else qvel[:_N]
+
+    def set_body(self, data: mujoco.MjData, angles_deg: np.ndarray, stance: np.ndarray | None = None) -> None:
+        """Set the posture (22,) [deg] and the stance (4,) [m, m, deg, deg] and run mj_kinematics."""
+        self.write_body(data.qpos, body_qpos(angles_deg, stance))
+        data.qvel[self.dofadr] = 0.0
+        mujoco.mj_kinematics(self.model, data)
 
     def set_posture(self, data: mujoco.MjData, posture_deg: Posture) -> None:
         """Set the named angles [deg] (others untouched), zero the human's velocities, run mj_kinematics."""

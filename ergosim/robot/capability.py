@@ -11,7 +11,11 @@ from __future__ import annotations
 
 from ergosim.robot.robot_model import RobotModel
 
-__all__ = ["refusal"]
+__all__ = ["refusal", "OUT_OF_REACH"]
+
+
+OUT_OF_REACH = "is out of its reach"
+"""How a refusal for the robot's reach ends (the check before any physics tells it from the others)."""
 
 
 def refusal(robot: RobotModel, action: str, part: str, grip_width: float, mass: float | None,
@@ -25,5 +29,5 @@ def refusal(robot: RobotModel, action: str, part: str, grip_width: float, mass: 
         return (f"{robot.name} cannot do {action}: it carries {mass:.2f} kg ({part}) and its payload is "
                 f"{robot.payload:g} kg")
     if not reachable:
-        return f"{robot.name} cannot do {action}: {unreachable or part} is out of its reach"
+        return f"{robot.name} cannot do {action}: {unreachable or part} {OUT_OF_REACH}"
     return None

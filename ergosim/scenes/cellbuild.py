@@ -20,12 +20,23 @@ from ergosim.scenes.clearance import check_clearance
 from ergosim.scenes.shapes import add_part_body
 from ergosim.scenes.workcell import ActionGeometry, Workcell
 
-__all__ = ["build_cell", "cell_mjspec", "seat_site", "action_geometry"]
+__all__ = ["build_cell", "cell_mjspec", "seat_site", "present_site", "action_geometry", "PRESENT_STANDOFF"]
+
+PRESENT_STANDOFF = 0.06
+"""How far short of its target a robot presents a part handed over at the target [m]: along the slot's axis
+for an insertion, above it for a place; the robot's own insertion stroke (``SkillParams.insert_approach``),
+which the worker then completes."""
 
 
 def seat_site(slot_host: str, part: str) -> str:
     """Name of the site where ``part`` sits when seated in its slot of ``slot_host``."""
     return f"{slot_host}_hollow_{part}"
+
+
+def present_site(action: str) -> str:
+    """Name of the site where a robot presents the part of ``action`` (``handover`` = the action's target):
+    the target's pose, :data:`PRESENT_STANDOFF` out along the way in."""
+    return f"{action}_present"
 
 
 def action_geometry(spec: CellSpec) -> dict[str, ActionGeometry]:
@@ -36,7 +47,8 @@ def action_geometry(spec: CellSpec) -> dict[str, ActionGeometry]:
             target = seat_site(slots[a.target].host, a.part)
         else:
             target = a.target
-        out[a.label] = ActionGeometry(a.label, a.part, a.kind, target, handover=a.handover,
+        handover = present_site(a.label) if a.handover is not None and a.handover == a.target else a.handover
+        out[a.label] = ActionGeometry(a.label, a.part, a.kind, target, handover=handover,
                                       turn_time=a.turn_time)
     return out
 
@@ -104,8 +116,11 @@ def _assemble(spec: CellSpec) -> tuple[mujoco.MjSpec, dict[str, str], mujoco.MjM
         slot = slots[a.target]
         part = spec.part(a.part)
         centre = [slot.at[i] + part.insert_half_length * slot.axis[i] for i in range(3)]
-        bodies[slot.host].add_site(name=seat_site(slot.host, a.part), pos=centre,
-                                   quat=from_axis_to(part.insert_axis, slot.axis).tolist(), group=4)
+        quat = from_axis_to(part.insert_axis, slot.axis).tolist()
+        bodies[slot.host].add_site(name=seat_site(slot.host, a.part), pos=centre, quat=quat, group=4)
+        if a.handover == a.target:
+            out = [centre[i] + PRESENT_STANDOFF * slot.axis[i] for i in range(3)]
+            bodies[slot.host].add_site(name=present_site(a.label), pos=out, quat=quat, group=4)
         seats.append((slot.host, a.part))
     for t in spec.targets:
         if t.kind == "place":
@@ -113,6 +128,10 @@ def _assemble(spec: CellSpec) -> tuple[mujoco.MjSpec, dict[str, str], mujoco.MjM
         else:
             pos = list(t.pos)
         m.worldbody.add_site(name=t.name, pos=pos, quat=from_yaw_deg(t.yaw), group=4)
+        for a in spec.actions:
+            if a.handover is not None and a.handover == a.target == t.name:
+                above = [pos[0], pos[1], pos[2] + PRESENT_STANDOFF]
+                m.worldbody.add_site(name=present_site(a.label), pos=above, quat=from_yaw_deg(t.yaw), group=4)
     # insertion is a weld within tolerance (Workcell.seat), not a contact simulation of the fit
     for host, part in seats:
         m.add_exclude(bodyname1=host, bodyname2=part)
@@ -133,5 +152,12 @@ def build_cell(spec: CellSpec) -> Workcell:
     m, hands, human, prefixes = _assemble(spec)
     model, parks = build.finish(m, where=spec.source, robots=prefixes)
     cell = Workcell(spec, model, action_geometry(spec), hands, human=human, parks=parks)
-    check_clearance(spec, cell.model, cell.data)  # nothing starts inside furniture (at the home keyframe)
+    # nothing inside furniture at the ready pose, where every robot's inverse kinematics starts and near
+    # which its transits pass, nor at the park pose (the home keyframe), where each run starts
+    for handle in cell.robot_handles.values():
+        cell.data.qpos[handle.arm_qpos] = handle.robot.home
+    mujoco.mj_kinematics(cell.model, cell.data)
+    check_clearance(spec, cell.model, cell.data, "ready pose")
+    cell.reset()
+    check_clearance(spec, cell.model, cell.data, "park pose")
     return cell

@@ -58,7 +58,7 @@ _TOP = {"name": "str", "description": "str", "timestep": "float", "seat_toleranc
         "grasp_tolerance": "float"}
 _TABLES = ("aliases", "worker", "robots", "furniture", "parts", "targets", "actions", "views", "safety")
 _WORKER = {"name": "str", "xy": ("floats", 2), "yaw": "float", "hand": "str", "stature": "float",
-           "human_scale": "pairs"}
+           "human_scale": "pairs", "standing_area": ("floats", 4), "max_turn": "float"}
 _ROBOT = {"model": "str", "base": ("floats", 3), "yaw": "float", "support": "str", "park_clearance": "float"}
 _FURNITURE = {
     "table": {"type": "str", "center": ("floats", 2), "size": ("floats", 2), "height": "float",
@@ -539,10 +539,12 @@ def _check_actions(spec: CellSpec, at) -> None:
                         else "a place target on a surface (on, xy, part)")
                 raise ConfigError(f"a {a.kind} action goes to {what}; {a.target!r} is not one (those are: "
                                   f"{', '.join(of_kind) or 'none'})", where=at(f"{entry}.target"))
-        if a.handover is not None and (a.handover not in targets or targets[a.handover].kind != "free"):
+        presents = a.handover is not None and a.handover == a.target  # the robot presents it at its target
+        if a.handover is not None and not presents and (a.handover not in targets
+                                                        or targets[a.handover].kind != "free"):
             raise ConfigError(f"unknown handover pose {a.handover!r}; free targets: "
-                              f"{', '.join(n for n, t in targets.items() if t.kind == 'free') or 'none'}",
-                              where=at(f"{entry}.handover"))
+                              f"{', '.join(n for n, t in targets.items() if t.kind == 'free') or 'none'}, or "
+                              f"the action's own target {a.target!r}", where=at(f"{entry}.handover"))
         if kind.holds and not 0 < a.turn_time <= TURN_TIME_MAX:
             raise ConfigError(f"a {a.kind} action needs turn_time in (0, {TURN_TIME_MAX:g}] s, got "
                               f"{a.turn_time:g}", where=at(f"{entry}.turn_time"))

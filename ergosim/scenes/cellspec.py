@@ -238,7 +238,10 @@ class Target:
 class Worker:
     """The worker's pelvis on the floor at ``xy`` [m], facing +x turned by ``yaw`` [deg]; ``hand``: the
     dominant (acting) hand; ``stature`` [m] and ``human_scale`` ((segment, factor) pairs) build the body;
-    ``name``: the task's human agent this body is."""
+    ``name``: the task's human agent this body is. ``standing_area`` (x_min, x_max, y_min, y_max) [m] in
+    the worker's frame bounds where the pelvis may step (None: the clear floor within one step,
+    :mod:`ergosim.worker.stance`; all zeros: the feet stay planted); ``max_turn`` [deg] how far the worker
+    may turn on the spot (None: 90 deg)."""
 
     name: str = "human"
     xy: tuple[float, float] = (0.0, 0.0)
@@ -246,6 +249,8 @@ class Worker:
     hand: Literal["right", "left"] = "right"
     stature: float = 1.75
     human_scale: tuple[tuple[str, float], ...] = ()
+    standing_area: tuple[float, float, float, float] | None = None
+    max_turn: float | None = None
 
 
 @dataclasses.dataclass(frozen=True)

@@ -54,10 +54,11 @@ def _arm_geoms(model: mujoco.MjModel, base: str) -> list[int]:
             if model.body_rootid[model.geom_bodyid[g]] == root and _solid(model, g)]
 
 
-def check_clearance(spec: CellSpec, model: mujoco.MjModel, data: mujoco.MjData) -> None:
-    """Raise ConfigError if, at the current state (the home keyframe), a robot's links or pedestal or a part
-    penetrate furniture by more than :data:`PENETRATION`, or two robots touch. A robot may touch its own
-    support."""
+def check_clearance(spec: CellSpec, model: mujoco.MjModel, data: mujoco.MjData,
+                    pose: str = "ready pose") -> None:
+    """Raise ConfigError if, at the current state (``pose`` names the robots' posture in the message), a
+    robot's links or pedestal or a part penetrate furniture by more than :data:`PENETRATION`, or two robots
+    touch. A robot may touch its own support."""
     furniture = furniture_of_geoms(spec, model)
     fromto = np.zeros(6)
 
@@ -80,14 +81,14 @@ def check_clearance(spec: CellSpec, model: mujoco.MjModel, data: mujoco.MjData) 
         d, a, b = deepest(arms[robot.name] + pedestal, furniture, {robot.support, _PEDESTAL})
         if d < -PENETRATION:
             what = "its pedestal" if a in pedestal else model.body(model.geom_bodyid[a]).name
-            raise ConfigError(f"the robot stands inside furniture {furniture[b]!r}: at its ready pose {what} "
+            raise ConfigError(f"the robot stands inside furniture {furniture[b]!r}: at its {pose} {what} "
                               f"is {-d * 1000:.0f} mm inside {model.geom(b).name}; move "
                               f"robots.{robot.name}.base or the furniture",
                               where=f"{spec.source}: robots.{robot.name}.base")
         for other in spec.robots[:i]:
             d, _, _ = deepest(arms[robot.name], arms[other.name])
             if d < -PENETRATION:
-                raise ConfigError(f"robots {other.name!r} and {robot.name!r} intersect at their ready poses "
+                raise ConfigError(f"robots {other.name!r} and {robot.name!r} intersect at their {pose}s "
                                   f"({-d * 1000:.0f} mm); move one of them",
                                   where=f"{spec.source}: robots.{robot.name}.base")
     for part in spec.parts:

@@ -21,16 +21,24 @@ from typing import NamedTuple
 import mujoco
 import numpy as np
 
-__all__ = ["ParkRule", "ParkChoice", "HEAD_AND_CHEST", "HANDOVER_CLEARANCE", "choose_park", "robot_geoms",
-           "clearance_to"]
+__all__ = ["ParkRule", "ParkChoice", "HEAD_AND_CHEST", "HEAD_AND_NECK", "HANDOVER_CLEARANCE", "choose_park",
+           "robot_geoms", "clearance_to"]
 
 HEAD_AND_CHEST = ("human_head", "human_neck", "human_chest")
 """The human model's geoms of ISO/TS 15066's skull and face, neck and chest regions."""
 
+HEAD_AND_NECK = ("human_head", "human_neck")
+"""The human model's geoms of ISO/TS 15066's body region 1 (skull and forehead, face, neck), the regions
+with the lowest biomechanical limits, where contact is to be avoided: what a hand-over keeps its distance
+from. The chest (region 2) is left out there: a part presented at the worker's own bench, where the worker
+needs it, comes within reach of the torso by design, and contact there is what power and force limiting
+bounds (ISO/TS 15066 Table A.2). Parking (:class:`ParkRule`) keeps away from the chest as well."""
+
 HANDOVER_CLEARANCE = 0.2
-"""[m] what the robot keeps from the worker's head, neck and chest while it holds a part out at a hand-over
-(the part itself may come closer: the worker's hand takes it). Assumed: about a hand's length (0.108 of
-stature, Drillis & Contini; 0.19 m at 1.75 m), so a hand reaching for the part fits between."""
+"""[m] what the robot keeps from the worker's head and neck (:data:`HEAD_AND_NECK`) while it holds a part
+out at a hand-over (the part itself may come closer: the worker's hand takes it). Assumed: about a hand's
+length (0.108 of stature, Drillis & Contini; 0.19 m at 1.75 m), so a hand reaching for the part fits
+between."""
 
 
 @dataclasses.dataclass(frozen=True)

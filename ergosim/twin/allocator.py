@@ -17,6 +17,7 @@ import numpy as np
 from ergosim.ergonomics.cost import CostParams, risk_costs
 from ergosim.ergonomics.risk_index import RiskIndex
 from ergosim.planner import AndOrGraph
+from ergosim.planner.tie_break import PAPER_TIE_RULE, next_step
 from ergosim.twin.durations import expected_durations
 from ergosim.twin.modes import Mode
 
@@ -111,7 +112,7 @@ class Allocator:
 
     def __init__(self, graph: AndOrGraph, mode: Mode, *, index: RiskIndex | None, cost: CostParams | None,
                  planner: str = "fast", w_time: float = 0.0,
-                 durations: Mapping[tuple[str, str], float] | None = None,
+                 durations: Mapping[tuple[str, str], float] | None = None, tie: str = PAPER_TIE_RULE,
                  refused: frozenset[tuple[str, str]] = frozenset()) -> None:
         self.graph = graph
         self.mode = mode
@@ -133,6 +134,8 @@ class Allocator:
         """Weight of the time term [cost per s]: w_time × expected duration is added to every hyper-arc."""
         self.durations = dict(durations or {})
         """(action, agent) -> expected duration [s] (ergosim.twin.durations)."""
+        self.tie = tie
+        """Which ready step of an optimal plan goes first (ergosim.planner.tie_break)."""
         self.basis = Basis(mode.name, mode.risk_index, None if cost is None else cost.v_th,
                            1.0 if index is None else index.scale, self.human, self.robots)
 
@@ -184,6 +187,11 @@ class Allocator:
                     out.setdefault((op.action, agent), op.name)
         return out
 
+    def excluded(self, pruned: set[tuple[str, str]]) -> set[tuple[str, str]]:
+        """The (action, agent) pairs this mode leaves out of its decisions now: the mode's and the robots'
+        refusals for the run, and the repetition's failures ``pruned``."""
+        return self.base_pruned | pruned
+
     def chosen(self, action: str, agent: str, v_now: np.ndarray, done: list[str],
                pruned: set[tuple[str, str]], time: float, repetition: int) -> Decision | None:
         """The :class:`Decision` for an (action, agent) chosen by someone else (a Gym policy), with this
@@ -193,7 +201,7 @@ class Allocator:
             return None
         done_actions = {self._action_of[o] for o in done}
         v_hat, costs, _ = self.price([a for a in self.graph.actions if a not in done_actions])
-        cut = self.base_pruned | pruned
+        cut = self.excluded(pruned)
         agents = self.allowed[action] - {a for (act, a) in cut if act == action}
         return Decision(time=time, repetition=repetition, v_now=np.array(v_now), v_hat=v_hat, costs=costs,
                         action=action, agent=agent, operation=operation, had_choice=len(agents) > 1,
@@ -207,8 +215,8 @@ class Allocator:
             return None
         v_hat, costs, added = self.price(remaining)
         cut = self.base_pruned | pruned
-        step = self.graph.plan(done=done, costs=costs, pruned=cut, planner=self.planner,
-                               added=added or None).next
+        step = next_step(self.graph, done, costs=costs, pruned=cut, planner=self.planner, added=added or None,
+                         rule=self.tie)
         if step is None:
             return None
         agents = self.allowed[step.action] - {a for (act, a) in cut if act == step.action}

@@ -110,6 +110,11 @@ class LookaheadAllocator(Allocator):
         """When ``repetition`` started [s]: the time of its first decision."""
         return self._start.setdefault(repetition, time)
 
+    def excluded(self, pruned: set[tuple[str, str]]) -> set[tuple[str, str]]:
+        """As the paper's allocator, and the robot actions with no planned trajectory from the cell as laid
+        out (:attr:`unreachable`)."""
+        return super().excluded(pruned) | self.unreachable
+
     def decide(self, v_now: np.ndarray, done: list[str], pruned: set[tuple[str, str]], time: float,
                repetition: int) -> Decision | None:
         done_actions = {self.action_of(o) for o in done}
@@ -118,7 +123,7 @@ class LookaheadAllocator(Allocator):
             return None
         elapsed = time - self.repetition_start(repetition, time)
         v_hat, costs, _ = self.price(remaining)
-        cut = self.base_pruned | pruned | self.unreachable
+        cut = self.excluded(pruned)
         plan = lookahead_plan(self.graph, self.model, v_now, done=done, pruned=cut, elapsed=elapsed,
                               limits=self.limits)
         self.last_plan = plan

@@ -28,6 +28,7 @@ from ergosim.ergonomics.cost import CostParams, rula_baseline_params
 from ergosim.errors import ConfigError
 from ergosim.machine import physical_memory
 from ergosim.overrides import flat_values, replace_flat
+from ergosim.planner.tie_break import TIE_RULES
 from ergosim.robot.trajectory import CONTACT_SPEED, TRANSIT_SPEED
 from ergosim.twin.modes import mode_names, mode_or_default
 
@@ -292,12 +293,15 @@ class LookaheadConfig:
 class ScenarioConfig:
     """The protocol of one scenario. ``scene`` and ``task`` are labels (the workcell's name, the task file's
     name) for the outputs; ``modes``: the allocation modes run (:mod:`ergosim.twin.modes`); ``planner``:
-    ``fast`` (bottom-up) or ``paper`` (Algorithm 1). Every other field is in its group."""
+    ``fast`` (bottom-up) or ``paper`` (Algorithm 1); ``tie_break``: which ready action of an optimal plan
+    goes first when plans of equal cost differ only in their order (:mod:`ergosim.planner.tie_break`;
+    ``costliest-first`` is what the paper's Algorithm 1 returns). Every other field is in its group."""
 
     scene: str
     task: str
     modes: tuple[str, ...] = ("hrc",)
     planner: Literal["fast", "paper"] = "fast"
+    tie_break: Literal["costliest-first", "task-order", "cheapest-first"] = "costliest-first"
     cost: CostConfig = CostConfig()
     robot: RobotConfig = RobotConfig()
     population: PopulationConfig = PopulationConfig()
@@ -322,6 +326,8 @@ class ScenarioConfig:
         self.pacing.validate(where)
         _need(all(m in mode_names() for m in self.modes) and len(self.modes) > 0,
               f"modes must be among {', '.join(mode_names())}, got {','.join(self.modes)}", where)
+        _need(self.tie_break in TIE_RULES, f"tie_break must be one of {', '.join(TIE_RULES)}, got "
+              f"{self.tie_break!r}", where)
         self.cost.validate(where)
         self.sensing.validate(where)
         self.robot.validate(where)

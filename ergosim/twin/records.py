@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from ergosim.ergonomics.rula import RULA_PARTS
-from ergosim.posture import ANGLE_NAMES, KWEAR_JOINTS
+from ergosim.posture import ANGLE_NAMES, KWEAR_JOINTS, STANCE
 
 __all__ = ["Allocation", "Failure", "RepetitionOutcome", "TickLog", "SubjectRun", "TICK_COLUMNS"]
 
@@ -24,8 +24,10 @@ TICK_COLUMNS: tuple[str, ...] = (
     + tuple(f"rula_{p}" for p in RULA_PARTS)
     + ("rula_grand",)
     + tuple(f"kwear_{j}" for j in KWEAR_JOINTS)
+    + STANCE
 )
-"""Columns of ``ticks.csv`` after ``subject`` and ``mode``; angles in degrees, t in seconds."""
+"""Columns of ``ticks.csv`` after ``subject`` and ``mode``; angles in degrees, t in seconds; the stance last
+(the worker's true pelvis step [m], turn [deg] and knee flexion [deg])."""
 
 
 @dataclasses.dataclass(frozen=True)

@@ -96,7 +96,8 @@ class Session:
         start = int(np.ceil(motion.t_grasp * rate))
         end = min(int(np.ceil(place.start * rate)), len(motion.t) - 1)
         # Hand pose at the place frame, from the human's own kinematics.
-        hand_p, hand_q = cell.human.segment_pose_at(motion.angles[end], cell.hand_bodies[self.hand])
+        hand_p, hand_q = cell.human.segment_pose_at(motion.angles[end], cell.hand_bodies[self.hand],
+                                                     motion.stances[end])
         tgt_p, tgt_q = cell.site_pose(geom.target)
         if body != geom.part:  # the whole assembly, held by one of its profiles: keep the profile's offset
             rel_p, rel_q = relative_pose(*cell.body_pose(geom.part), *cell.body_pose(body))

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ergosim.ergonomics.rula import RULA_PARTS
+from ergosim.human.model import body_qpos
 from ergosim.posture import ANGLE_NAMES
 from ergosim.twin.features import FeatureScorer
 from ergosim.worker.ergonomics_tick import score_frames
@@ -37,11 +38,13 @@ _GRAND = 2 + _N + len(RULA_PARTS)
 class Segment:
     """One measured stretch of motion. Arrays have one row per mocap frame.
 
-    ``qpos`` (n, 22) [rad] is the true posture that drives the model; ``scores`` (n, 24) holds the tick-log
+    ``qpos`` (n, 26) [rad, m] is the true posture and stance that drive the model
+    (:func:`~ergosim.human.model.body_qpos`); ``scores`` (n, 24) holds the tick-log
     columns ``acting``, ``dropout``, the measured angles, RULA per part and the grand score, computed once
     per segment so the per-tick loop only copies rows; ``g`` (n, 5) KWear inputs G_i (paper eq. 3);
     ``acting`` tells wear from recovery (eq. 3 vs eq. 5); ``static``: every frame has the same true posture
-    (a held rest), so the body needs posing once. Views: ``true`` (n, 22) [deg], ``measured``
+    (a held rest), so the body needs posing once. Views: ``true`` (n, 22) [deg], ``stance`` (n, 4)
+    [m, m, deg, deg], ``measured``
     (n, 14) [deg] what the suit reports (NaN rows are dropouts), ``rula`` (n, 7) part scores in
     :data:`RULA_PARTS` order and ``grand`` (n,), NaN on dropouts. With a REBA index running (a
     :class:`~ergosim.twin.features.FeatureScorer`): ``extra`` (n, k) its tick-log columns, and per feature
@@ -64,6 +67,10 @@ class Segment:
     @property
     def true(self) -> np.ndarray:
         return self.motion.angles
+
+    @property
+    def stance(self) -> np.ndarray:
+        return self.motion.stances
 
     @property
     def measured(self) -> np.ndarray:
@@ -109,7 +116,7 @@ class WorkerTrack:
         grasp = int(np.ceil(motion.t_grasp * rate)) if np.isfinite(motion.t_grasp) else -1
         release = int(np.ceil(motion.t_release * rate)) if np.isfinite(motion.t_release) else -1
         scores = np.column_stack([np.full(len(g), float(acting)), np.isnan(g[:, 0]), measured, parts, grand])
-        qpos = np.deg2rad(motion.angles)
+        qpos = body_qpos(motion.angles, motion.stances)
         static = bool((qpos == qpos[0]).all())
         if self.scorer is None:
             return Segment(motion, qpos, scores, g, acting, grasp, release, static)

@@ -11,10 +11,12 @@ from ergosim.worker.ergonomics_tick import (
     score_frames,
     tick_indices,
 )
-from ergosim.worker.ik import IKPrior, IKSolution, UpperBodyIK, default_prior, log_so3
+from ergosim.worker.ik import IKSolution, WholeBodyIK, log_so3
+from ergosim.worker.ik_prior import BODY, IKPrior, default_prior
 from ergosim.worker.minimum_jerk import interpolate_keyframes, min_jerk, min_jerk_velocity
 from ergosim.worker.motion import ActionMotion, Phase, SceneView, Worker
 from ergosim.worker.refusal import RefusalModel
+from ergosim.worker.stance import StandingArea
 from ergosim.worker.stream import MocapFrames, MocapStream, MotionPlayback
 from ergosim.worker.subjects import Subject, make_subject, make_subjects, rest_angles
 
@@ -26,7 +28,9 @@ __all__ = [
     "save_bvh",
     "IKPrior",
     "IKSolution",
-    "UpperBodyIK",
+    "WholeBodyIK",
+    "BODY",
+    "StandingArea",
     "default_prior",
     "log_so3",
     "ActionTiming",

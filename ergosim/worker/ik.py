@@ -1,311 +1,225 @@
-"""Whole-upper-body inverse kinematics of the kinematic human, with natural posture priors.
+"""Whole-body inverse kinematics of the kinematic human: stance, trunk, neck and one arm, with a gaze.
 
-One hand's grasp site is driven to a target position (and optionally orientation) by a damped Gauss-Newton
-(Levenberg-Marquardt) solve of a regularised least-squares problem over the trunk and that arm:
+One hand's grasp site is driven to a target position (and optionally orientation) while the head looks at
+a point, by sequential quadratic programming on a regularised least-squares problem:
 
-    min_q  |p(q) - p*|^2 / s_p^2  +  |log(R* R(q)^T)|^2 / s_R^2  +  sum_j (q_j - q_pref_j)^2 / s_j^2
-           + max(0, elbow_comfort - q_elbow)^2 / s_elbow^2,            subject to the joint ranges.
+    min_q  |p_hand(q) - p*|^2 / s_p^2 (+ |log(R* R_hand(q)^T)|^2 / s_R^2)
+           + sum_j ((q_j - pref_j) / s_j)^2 + comfort-box excess^2 / s_c^2 + |gaze excess|^2 / s_g^2,
+    q within its ranges and the standing area.
 
-The task terms have tiny tolerances (s_p = 0.5 mm), so the priors act in the task's null space: the trunk has
-a stiff prior (a few degrees), so it bends or twists only when the arm alone cannot reach comfortably (the
-one-sided elbow term makes an almost straight arm expensive); the shoulder abduction and rotation priors keep
-the elbow low. The neck is not part of the solve: the head looks at the hand's target (:meth:`look_at`),
-with the eyes taking the first few degrees of gaze, so near, low targets flex the neck.
+The hand task has tight tolerances (s_p = 2 mm, s_R = 2 deg), so the posture priors
+(:mod:`ergosim.worker.ik_prior`) and the gaze act in its null space; a target beyond reach ends at the best
+approach. Each iteration is a Levenberg-Marquardt step on the cost. The gaze (:mod:`ergosim.worker.gaze`)
+is what the eyes cannot take: the neck, the
+trunk and the stance share it by their priors, so a target far to the side turns the head, then the trunk
+and the body, and a near, low one flexes the neck. The stance (pelvis step and turn, knee flexion) moves
+within the standing area it is given (:mod:`ergosim.worker.stance`); a planted area keeps the feet where they
+are. The knees enter the solve through the pelvis height, whose Jacobian does not vanish with straight legs
+(:mod:`ergosim.human.legs`).
 
-Angles are in degrees at the interface (HUMAN_JOINTS order, (22,)), radians inside.
+Bodies are (26,) vectors in :data:`~ergosim.worker.ik_prior.BODY` order at the interface (degrees, metres
+for the pelvis step); radians and the pelvis drop [m] inside.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
 from typing import NamedTuple
 
 import mujoco
 import numpy as np
 
 from ergosim.human.model import HumanModel
-from ergosim.posture import ARM, HUMAN_JOINTS, TRUNK
+from ergosim.posture import ARM, HUMAN_JOINTS, NECK, STANCE, TRUNK
+from ergosim.worker.ik_cost import Problem, Task, log_so3
+from ergosim.worker.ik_prior import BODY, IKPrior, default_prior
+from ergosim.worker.stance import StandingArea
 
-__all__ = ["IKPrior", "IKSolution", "UpperBodyIK", "default_prior", "log_so3"]
+__all__ = ["IKSolution", "WholeBodyIK", "log_so3"]
 
-_IDX = {n: i for i, n in enumerate(HUMAN_JOINTS)}
-
-
-@dataclass(frozen=True)
-class IKPrior:
-    """Preferred angles and their softness, (22,) each in HUMAN_JOINTS order [deg], plus gaze sharing.
-
-    ``sigma_deg`` is how far a joint may move from ``pref_deg`` for the cost of one unit (a large sigma is a
-    free joint). Outside the comfort box [``comfort_lo_deg``, ``comfort_hi_deg``] a joint costs one unit per
-    ``comfort_sigma_deg`` more: an almost straight elbow or an arm behind the back is expensive, so the
-    trunk takes over. ``neck_turn_deg``: how far the head turns comfortably; a target whose azimuth is beyond
-    neck + eyes makes the trunk's preferred rotation face it (people turn to what they work on).
-    ``eye_down_deg``/``eye_up_deg``/``eye_side_deg``: gaze the eyes take before the neck moves.
-    """
-
-    pref_deg: np.ndarray
-    sigma_deg: np.ndarray
-    comfort_lo_deg: np.ndarray
-    comfort_hi_deg: np.ndarray
-    comfort_sigma_deg: float = 4.0
-    neck_turn_deg: float = 35.0
-    eye_down_deg: float = 20.0
-    eye_up_deg: float = 5.0
-    eye_side_deg: float = 15.0
-
-    def jittered(self, rng: np.random.Generator, deg: float) -> IKPrior:
-        """A copy whose preferred angles are perturbed by N(0, deg) (trial-to-trial variability)."""
-        return replace(self, pref_deg=self.pref_deg + rng.normal(0.0, deg, self.pref_deg.shape))
-
-
-def default_prior(trunk_use: float = 1.0, elbow_comfort_deg: float = 25.0) -> IKPrior:
-    """Natural priors; ``trunk_use`` > 1 is a person who bends/twists the trunk sooner (stoop style)."""
-    pref = np.zeros(len(HUMAN_JOINTS))
-    sigma = np.full(len(HUMAN_JOINTS), 30.0)
-    lo_c = np.full(len(HUMAN_JOINTS), -360.0)
-    hi_c = np.full(len(HUMAN_JOINTS), 360.0)
-    box = {"elbow_flexion": (elbow_comfort_deg, 360.0), "shoulder_flexion": (-15.0, 360.0),
-           "shoulder_abduction": (-25.0, 360.0)}
-    arm = {
-        "shoulder_flexion": (15.0, 70.0),
-        "shoulder_abduction": (8.0, 18.0),  # elbow stays low
-        "shoulder_rotation": (25.0, 30.0),
-        "shoulder_elevation": (0.0, 10.0),  # shrug only when needed
-        "elbow_flexion": (80.0, 80.0),
-        "forearm_pronation": (20.0, 35.0),
-        "wrist_flexion": (0.0, 18.0),
-        "wrist_deviation": (0.0, 12.0),
-    }
-    for prefix in ("", "left_"):
-        for name, (p, s) in arm.items():
-            pref[_IDX[prefix + name]], sigma[_IDX[prefix + name]] = p, s
-        for name, (lo, hi) in box.items():
-            lo_c[_IDX[prefix + name]], hi_c[_IDX[prefix + name]] = lo, hi
-    for name, s in (("trunk_flexion", 6.0), ("trunk_lateral_bend", 4.0), ("trunk_rotation", 6.0)):
-        sigma[_IDX[name]] = s * trunk_use
-    return IKPrior(pref, sigma, lo_c, hi_c)
+_IDX = {n: i for i, n in enumerate(BODY)}
+_N = len(HUMAN_JOINTS)
+_KNEE = _IDX["knee_flexion"]
+_SLIDES = (_IDX["pelvis_x"], _IDX["pelvis_y"])
+_REACH_RETRY = 0.005  # m: a free-stance solve this far from its target also starts from the planted one
+_TURN_START = 45.0  # deg of a target's azimuth the head and eyes take before a solve starts turned
 
 
 class IKSolution(NamedTuple):
-    """Result of one solve: (22,) angles [deg], residual position error [m] and rotation error [deg]."""
+    """Result of one solve: (26,) body [deg, m], residual position error [m] and rotation error [deg],
+    iterations, and the posture's cost (priors, gaze and knees: what the worker avoids, in units of one
+    neutral-zone edge)."""
 
-    angles: np.ndarray
+    body: np.ndarray
     pos_error: float
     rot_error_deg: float
     iterations: int
+    cost: float = float("nan")
+
+    @property
+    def angles(self) -> np.ndarray:
+        """(22,) posture angles [deg]."""
+        return self.body[:_N]
+
+    @property
+    def stance(self) -> np.ndarray:
+        """(4,) stance [m, m, deg, deg]."""
+        return self.body[_N:]
 
 
-def log_so3(r: np.ndarray) -> np.ndarray:
-    """Rotation vector (3,) [rad] of a 3x3 rotation matrix, angle in [0, pi]: through the unit quaternion
-    (MuJoCo's ``mju_mat2Quat``, stable near pi) and its logarithm (``mju_quat2Vel``)."""
-    quat = np.empty(4)
-    mujoco.mju_mat2Quat(quat, np.ascontiguousarray(r, dtype=float).reshape(9))
-    vel = np.empty(3)
-    mujoco.mju_quat2Vel(vel, quat, 1.0)
-    return vel
+class WholeBodyIK:
+    """IK on a compiled model containing the human (use the subject's standalone human model for speed).
 
-
-class UpperBodyIK:
-    """IK on a compiled model containing the human (use the small standalone human model for speed).
-
-    Targets are in that model's world frame. Not thread-safe: owns one MjData.
+    Targets are in that model's world frame, whose origin is the worker's spot on the floor. Not
+    thread-safe: owns one MjData.
     """
 
-    def __init__(self, model: mujoco.MjModel, prior: IKPrior | None = None, pos_tol: float = 5e-4,
-                 max_iter: int = 80, rel_tol: float = 1e-3) -> None:
+    def __init__(self, model: mujoco.MjModel, prior: IKPrior | None = None, pos_tol: float = 2e-3,
+                 max_iter: int = 80) -> None:
         self.model = model
         self.data = mujoco.MjData(model)
         self.human = HumanModel(model)
         self.prior = prior if prior is not None else default_prior()
         self.s_pos = pos_tol
-        self.s_rot = np.deg2rad(0.5)
+        self.s_rot = math.radians(2.0)
         self.max_iter = max_iter
-        self.rel_tol = rel_tol
+        stance = [_IDX[n] for n in STANCE]
         self.active = {
-            side: np.array([_IDX[n] for n in TRUNK] + [_IDX[prefix + n] for n in ARM])
+            side: np.array(stance + [_IDX[n] for n in TRUNK + NECK] + [_IDX[prefix + n] for n in ARM])
             for side, prefix in (("right", ""), ("left", "left_"))
         }
-        self.lo = np.deg2rad(self.human.range_deg[:, 0])
-        self.hi = np.deg2rad(self.human.range_deg[:, 1])
-        self.torso = model.body("human_torso").id
-        self.neck = np.array([_IDX["neck_flexion"], _IDX["neck_lateral_bend"], _IDX["neck_rotation"]])
-        self._dof = {side: self.human.dofadr[act] for side, act in self.active.items()}
-        self._qadr_act = {side: self.human.qadr[act] for side, act in self.active.items()}
+        h = self.human
+        drop_j = model.joint("pelvis_drop").id
+        self.qadr = np.concatenate([h.qadr, h.stance_qadr[:3], [model.jnt_qposadr[drop_j]]])
+        self.dofadr = np.concatenate([h.dofadr, [model.jnt_dofadr[model.joint(n).id] for n in STANCE[:3]],
+                                      [model.jnt_dofadr[drop_j]]])
+        lo = [np.deg2rad(h.range_deg[:, 0])]
+        hi = [np.deg2rad(h.range_deg[:, 1])]
+        for n in STANCE:
+            r = model.jnt_range[model.joint(n).id]
+            lo.append([r[0]])
+            hi.append([r[1]])
+        self.lo = np.concatenate(lo)
+        self.hi = np.concatenate(hi)
         self._jacp = np.zeros((3, model.nv))
         self._jacr = np.zeros((3, model.nv))
+        self._jep = np.zeros((3, model.nv))
+        self._jer = np.zeros((3, model.nv))
+
+    # -- conversions -----------------------------------------------------------------------------------------
+    def to_solver(self, body: np.ndarray) -> np.ndarray:
+        """(26,) body [deg, m] -> solver units [rad, m, drop m]."""
+        q = np.deg2rad(np.asarray(body, dtype=float))
+        q[list(_SLIDES)] = body[list(_SLIDES)]
+        q[_KNEE] = self.human.legs.drop(np.deg2rad(body[_KNEE]))
+        return q
+
+    def to_body(self, q: np.ndarray) -> np.ndarray:
+        """Solver units -> (26,) body [deg, m]."""
+        body = np.rad2deg(q)
+        body[list(_SLIDES)] = q[list(_SLIDES)]
+        body[_KNEE] = np.rad2deg(self.human.legs.knee_of(q[_KNEE]))
+        return body
 
     def _fk(self, q: np.ndarray) -> None:
-        self.data.qpos[self.human.qadr] = q
+        self.data.qpos[self.qadr] = q
         mujoco.mj_kinematics(self.model, self.data)
 
-    def solve(self, q0_deg: np.ndarray, target: np.ndarray, side: str = "right",
-              target_rot: np.ndarray | None = None, prior: IKPrior | None = None,
+    # -- solving ---------------------------------------------------------------------------------------------
+    def solve(self, q0: np.ndarray, target: np.ndarray, side: str = "right",
+              target_rot: np.ndarray | None = None, gaze: np.ndarray | None = None,
+              prior: IKPrior | None = None, area: StandingArea | None = None,
               max_iter: int | None = None) -> IKSolution:
-        """Drive the ``side`` hand site to ``target`` (3,) [m] (and (3, 3) ``target_rot``) from ``q0_deg``.
+        """Drive the ``side`` hand site to ``target`` (3,) [m] (and (3, 3) ``target_rot``) from the body
+        ``q0`` (26,), looking at ``gaze`` (3,) [m] (default: the target), the stance within ``area``
+        (default: planted where ``q0`` stands).
 
-        Sequential quadratic programming: each iteration minimises the posture cost (quadratic, diagonal)
-        subject to the linearised task, closed form through the KKT system; joints that hit their range are
-        frozen and the step re-solved. Unreachable targets converge to the damped best approach.
+        Each iteration minimises the Gauss-Newton model of the cost; joints pushed past their range are
+        frozen at it and the step re-solved; a line search keeps the cost falling. Unreachable targets
+        converge to the best approach. With a stance free to turn, the solve also starts turned towards a
+        target far to the side, and the cheaper of the two ends is kept.
         """
         pr = prior if prior is not None else self.prior
+        area = area if area is not None else StandingArea.planted()
+        q0 = np.asarray(q0, dtype=float)
         act = self.active[side]
-        dof = self._dof[side]
-        qadr = self._qadr_act[side]
-        site = self.human.hand_site[side]
-        model, data = self.model, self.data
-        xpos, xmat = data.site_xpos[site], data.site_xmat[site].reshape(3, 3)
-        q = np.deg2rad(np.asarray(q0_deg, dtype=float))
-        pref = np.deg2rad(pr.pref_deg[act])
-        pref[2] += self._trunk_turn(q, target, pr)  # act[2] is trunk_rotation; leaves FK at q
-        w2 = np.deg2rad(pr.sigma_deg[act]) ** -2.0
-        lo_c, hi_c = np.deg2rad(pr.comfort_lo_deg[act]), np.deg2rad(pr.comfort_hi_deg[act])
-        wc2 = np.deg2rad(pr.comfort_sigma_deg) ** -2.0
-        lo, hi = self.lo[act], self.hi[act]
-        n_task = 6 if target_rot is not None else 3
-        diag = np.arange(n_task) * (n_task + 1)
-        err = np.zeros(n_task)
-        a = np.zeros((n_task, len(act)))
-        lam = np.empty(n_task)
-        jacp, jacr = self._jacp, self._jacr
-
-        def violation(qa: np.ndarray) -> np.ndarray:  # signed excess over the comfort box (0 inside)
-            return np.minimum(qa - lo_c, 0.0) + np.maximum(qa - hi_c, 0.0)
-
-        def merit(d: np.ndarray, viol: np.ndarray, task_err: float) -> float:
-            return float(w2 @ (d * d) + wc2 * (viol @ viol)) + 2e4 * task_err
-
-        def task_error() -> float:  # of the current forward kinematics
-            e = xpos - target
-            err_t = math.sqrt(e @ e)
-            if target_rot is not None:
-                r = log_so3(target_rot @ xmat.T)
-                err_t += math.sqrt(r @ r)
-            return err_t
-
-        qa = q[act]
-        d = qa - pref
-        viol = violation(qa)
-        it = 0
-        for it in range(1, (max_iter or self.max_iter) + 1):
-            # forward kinematics are those of qa here (set by _trunk_turn or by the last line-search trial)
-            mujoco.mj_comPos(model, data)
-            mujoco.mj_jacSite(model, data, jacp, jacr, site)
-            np.subtract(target, xpos, out=err[:3])
-            a[:3] = jacp[:, dof]
-            if target_rot is not None:
-                err[3:] = log_so3(target_rot @ xmat.T)
-                a[3:] = jacr[:, dof]
-            pos_err = math.sqrt(err[:3] @ err[:3])
-            # a linear step cannot be trusted far from the target: cap the task step per iteration
-            b = err * min(1.0, 0.15 / max(pos_err, 1e-12))
-            outside = viol != 0.0
-            h = w2 + wc2 * outside
-            g = w2 * d + wc2 * viol
-            # the unconstrained step, then: pin joints pushed past their range to it, re-solve the others
-            hinv = 1.0 / h
-            ah = a * hinv
-            kkt = ah @ a.T
-            kkt.flat[diag] += 1e-8
-            mujoco.mju_cholFactor(kkt, 0.0)
-            mujoco.mju_cholSolve(lam, kkt, b + ah @ g)
-            step = hinv * (lam @ a - g)
-            new = qa + step
-            out = (new < lo) | (new > hi)
-            if out.any():
-                free = ~out
-                fixed = np.zeros(len(act))  # steps of joints frozen at their range
-                for _ in range(3):
-                    fixed[out] = np.minimum(np.maximum(new[out], lo[out]), hi[out]) - qa[out]
-                    hinv = np.where(free, 1.0 / h, 0.0)
-                    ah = a * hinv
-                    kkt = ah @ a.T
-                    kkt.flat[diag] += 1e-8
-                    mujoco.mju_cholFactor(kkt, 0.0)
-                    mujoco.mju_cholSolve(lam, kkt, b - a @ fixed + ah @ g)
-                    step = hinv * (lam @ a - g) + fixed
-                    new = qa + step
-                    out = free & ((new < lo) | (new > hi))
-                    if not out.any():
-                        break
-                    free &= ~out
-            step = np.minimum(np.maximum(new, lo), hi) - qa
-            step *= min(1.0, 0.3 / max(np.abs(step).max(), 1e-12))
-            # exact-penalty merit line search: keeps the SQP from cycling in the wrist/forearm null space
-            m0 = merit(d, viol, math.sqrt(err @ err))
-            for _ in range(6):
-                trial = qa + step
-                data.qpos[qadr] = trial
-                mujoco.mj_kinematics(model, data)
-                d = trial - pref
-                viol = violation(trial)
-                if merit(d, viol, task_error()) < m0:
-                    break
-                step *= 0.5
-            qa = trial
-            if np.abs(step).max() < 1e-3 and pos_err < self.s_pos:
-                break
-        q[act] = qa
-        pos_err = float(np.linalg.norm(xpos - target))
-        rot_err = 0.0
-        if target_rot is not None:
-            rot_err = float(np.rad2deg(np.linalg.norm(log_so3(target_rot @ xmat.T))))
-        return IKSolution(np.rad2deg(q), pos_err, rot_err, it)
-
-    def _trunk_turn(self, q: np.ndarray, point: np.ndarray, pr: IKPrior) -> float:
-        """Trunk rotation [rad] needed so that neck + eyes can face ``point`` comfortably, for posture ``q``
-        [rad]; leaves the forward kinematics at ``q``."""
+        prob = Problem(self, act, pr, area, q0)
+        if (prob.hi <= prob.lo).any():  # joints held where they are (a planted stance) are not variables
+            act = act[prob.hi > prob.lo]
+            prob = Problem(self, act, pr, area, q0)
+        task = Task(self, side, np.asarray(target, dtype=float), target_rot,
+                     np.asarray(target if gaze is None else gaze, dtype=float), act, prob)
+        starts = [q0]
+        if not area.is_planted:
+            home = q0.copy()
+            home[_N:_N + 3] = 0.0  # the worker's own spot
+            turned = self._turned_towards(home, target, area)
+            starts += [s for s in (home, turned) if not np.array_equal(s, q0)]
+        best = None
+        for start in starts:
+            q = self.to_solver(start)
+            q[act] = np.minimum(np.maximum(q[act], prob.lo), prob.hi)
+            end = task.descend(q, max_iter or self.max_iter)
+            if best is None or end[1] < best[1]:
+                best = end
+        q, _, it = best
         self._fk(q)
-        root = self.data.xmat[self.human.root_body].reshape(3, 3)
-        d = root.T @ (point - self.data.site_xpos[self.human.eye_site])
-        az = np.arctan2(d[1], d[0])
-        reach = np.deg2rad(pr.neck_turn_deg + pr.eye_side_deg)
-        return float(az - np.clip(az, -reach, reach))
-
-    def look_at(self, angles_deg: np.ndarray, point: np.ndarray, prior: IKPrior | None = None) -> np.ndarray:
-        """Neck angles that point the gaze at ``point`` (3,) [m]; returns a new (22,) array [deg].
-
-        The eyes take up to ``eye_down``/``eye_up``/``eye_side`` degrees of the gaze; the head turns the rest.
-        Yaw and pitch of the gaze are measured in the trunk frame and mapped to the neck's flexion ->
-        lateral-bend -> rotation hinges (lateral bend stays 0).
-        """
-        pr = prior if prior is not None else self.prior
-        q = np.deg2rad(np.asarray(angles_deg, dtype=float)).copy()
-        for _ in range(3):  # the eyes sit in front of the neck pivot: refine twice
+        if not area.is_planted and task.errors()[0] > _REACH_RETRY:
+            # free to step, yet short of the target: a local minimum; go on from where the feet stand
+            planted = self.solve(q0, target, side, target_rot, gaze, pr, StandingArea.planted(), max_iter)
+            end = task.descend(self.to_solver(planted.body), max_iter or self.max_iter)
+            if end[1] < best[1]:
+                q, _, it = end
             self._fk(q)
-            eye = self.data.site_xpos[self.human.eye_site]
-            d = self.data.xmat[self.torso].reshape(3, 3).T @ (point - eye)
-            yaw = np.arctan2(d[1], d[0])
-            pitch = np.arctan2(-d[2], np.hypot(d[0], d[1]))  # > 0 looking down
-            side = np.deg2rad(pr.eye_side_deg)
-            yaw_h = yaw - np.clip(yaw, -side, side)
-            pitch_h = pitch - np.clip(pitch, -np.deg2rad(pr.eye_up_deg), np.deg2rad(pr.eye_down_deg))
-            h = np.array([np.cos(pitch_h) * np.cos(yaw_h), np.cos(pitch_h) * np.sin(yaw_h), -np.sin(pitch_h)])
-            neck = np.array([np.arctan2(-h[2], h[0]), 0.0, np.arcsin(np.clip(h[1], -1.0, 1.0))])
-            q[self.neck] = np.clip(neck, self.lo[self.neck], self.hi[self.neck])
-        return np.rad2deg(q)
+        mujoco.mj_comPos(self.model, self.data)
+        pos_err, rot_err = task.errors()
+        return IKSolution(self.to_body(q), pos_err, rot_err, it, task.posture_cost(q[act]))
 
-    def hand_pos(self, angles_deg: np.ndarray, side: str = "right") -> np.ndarray:
-        """(3,) grasp point for (22,) angles [deg], in this model's world frame."""
-        self._fk(np.deg2rad(angles_deg))
-        return self.data.site_xpos[self.human.hand_site[side]].copy()
+    def _turned_towards(self, body: np.ndarray, point: np.ndarray, area: StandingArea) -> np.ndarray:
+        """``body`` with the stance turned towards ``point`` by what neck and eyes do not take
+        (:data:`_TURN_START`), within the area: the start of a solve whose target lies far to the side or
+        behind, where a linearisation from the front would not find the turn."""
+        if area.is_planted or area.turn[0] == area.turn[1]:
+            return body
+        az = math.degrees(math.atan2(point[1] - body[_IDX["pelvis_y"]], point[0] - body[_IDX["pelvis_x"]]))
+        turn = body[_IDX["pelvis_rotation"]]
+        rel = (az - turn + 180.0) % 360.0 - 180.0
+        if abs(rel) <= _TURN_START:
+            return body
+        out = np.array(body, dtype=float)
+        out[_IDX["pelvis_rotation"]] = min(max(turn + rel - math.copysign(_TURN_START, rel), area.turn[0]),
+                                           area.turn[1])
+        return out
 
-    def hand_pose(self, angles_deg: np.ndarray, side: str = "right") -> tuple[np.ndarray, np.ndarray]:
-        """((3,) position [m], (3, 3) rotation) of a hand's grasp site for (22,) angles [deg]."""
-        self._fk(np.deg2rad(angles_deg))
+    # -- forward kinematics ----------------------------------------------------------------------------------
+    def hand_pose(self, body: np.ndarray, side: str = "right") -> tuple[np.ndarray, np.ndarray]:
+        """((3,) position [m], (3, 3) rotation) of a hand's grasp site for a (26,) body."""
+        self._fk(self.to_solver(body))
         s = self.human.hand_site[side]
         return self.data.site_xpos[s].copy(), self.data.site_xmat[s].reshape(3, 3).copy()
 
-    def hand_path(self, angles_deg: np.ndarray, side: str = "right") -> np.ndarray:
-        """(n, 3) grasp-point positions for (n, 22) angles [deg] (forward kinematics per row)."""
-        out = np.empty((len(angles_deg), 3))
+    def hand_pos(self, body: np.ndarray, side: str = "right") -> np.ndarray:
+        """(3,) grasp point for a (26,) body, in this model's world frame."""
+        return self.hand_pose(body, side)[0]
+
+    def point(self, body: np.ndarray, body_name: str) -> np.ndarray:
+        """(3,) origin of body ``body_name`` (e.g. a shoulder) for a (26,) body."""
+        self._fk(self.to_solver(body))
+        return self.data.xpos[self.model.body(body_name).id].copy()
+
+    def hand_path(self, bodies: np.ndarray, side: str = "right") -> np.ndarray:
+        """(n, 3) grasp-point positions for (n, 26) bodies (forward kinematics per row)."""
+        out = np.empty((len(bodies), 3))
         xpos = self.data.site_xpos[self.human.hand_site[side]]
-        qpos = self.data.qpos
-        rows = np.empty((len(angles_deg), self.model.nq))
-        rows[:] = qpos
-        rows[:, self.human.qadr] = np.deg2rad(angles_deg)  # whole qpos rows: one plain copy per frame
-        for k in range(len(rows)):
-            qpos[:] = rows[k]
+        qs = np.array([self.to_solver(b) for b in bodies]) if len(bodies) < 2 else self._solver_rows(bodies)
+        for k in range(len(qs)):
+            self.data.qpos[self.qadr] = qs[k]
             mujoco.mj_kinematics(self.model, self.data)
             out[k] = xpos
         return out
+
+    def _solver_rows(self, bodies: np.ndarray) -> np.ndarray:
+        q = np.deg2rad(bodies)
+        q[:, list(_SLIDES)] = bodies[:, list(_SLIDES)]
+        q[:, _KNEE] = self.human.legs.drop(np.deg2rad(bodies[:, _KNEE]))
+        return q

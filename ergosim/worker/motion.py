@@ -1,15 +1,16 @@
 """Target-driven motion of the simulated worker: one assembly action as a sequence of phases.
 
-rest -> reach the part where it actually lies in the scene -> grasp it (or take it from the robot at the
-handover pose) -> carry it to where it is inserted or placed -> release -> return to rest.
+rest -> reach the part where it actually lies in the scene -> grasp it (or take it from the robot where it
+holds it out) -> carry it to where it is inserted or placed -> release -> return to rest.
 
-The part and target poses are read from the scene when the action is planned (never constants). Whole-body
-postures come from :class:`~ergosim.worker.ik.UpperBodyIK` at six key poses (above the part, at the part,
-lifted, above the target, at the target, retreated); between key poses the canonical angles follow
-minimum-jerk transitions (:mod:`ergosim.worker.minimum_jerk`) timed by MTM-1 element times
-(:mod:`ergosim.worker.action_timing`). The IK runs on the
-subject's own standalone human model; poses are moved between the scene's world frame and the human's frame
-through the pose of ``human_pelvis`` in the scene.
+The part and target poses are read from the scene when the action is planned (never constants). Whole
+bodies (posture and stance) come from :class:`~ergosim.worker.ik.WholeBodyIK` at the action's key poses
+(:mod:`ergosim.worker.keyposes`): the worker steps and turns within the cell's standing area
+(:mod:`ergosim.worker.stance`), bends the knees, and trunk, neck and eyes share the gaze. Between key poses
+the body follows minimum-jerk transitions (:mod:`ergosim.worker.minimum_jerk`) timed by MTM-1 element times,
+the body motions included (:mod:`ergosim.worker.action_timing`). The IK runs on the subject's own
+standalone human model; poses are moved between the scene's world frame and the worker's frame (the human's
+root on the floor, ``human_base``) through that root's pose in the scene.
 """
 
 from __future__ import annotations
@@ -17,15 +18,21 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, NamedTuple, Protocol
 
-import mujoco
 import numpy as np
 
+from ergosim.human.model import ROOT_BODY
+from ergosim.posture import HUMAN_JOINTS, STANCE
+from ergosim.quat import to_mat
 from ergosim.worker.action_timing import action_timing
-from ergosim.worker.ik import UpperBodyIK, log_so3
+from ergosim.worker.ik import WholeBodyIK
+from ergosim.worker.keyposes import plan_keyposes
 from ergosim.worker.minimum_jerk import interpolate_keyframes
+from ergosim.worker.stance import StandingArea, area_from_footprints, area_of_cell
 from ergosim.worker.subjects import Subject, rest_angles
 
 __all__ = ["SceneView", "Phase", "ActionMotion", "Worker"]
+
+_N = len(HUMAN_JOINTS)
 
 
 class SceneView(Protocol):
@@ -49,7 +56,9 @@ class ActionMotion:
     """One planned execution. ``t``: (n,) [s]; ``angles``: (n, 22) true canonical angles [deg]
     (HUMAN_JOINTS order); ``hand_pos``: (n, 3) grasp point of the acting hand in the scene's world frame [m].
     ``t_grasp``/``t_release``: when the hand closes on / lets go of the part. ``reach_error``/``place_error``
-    [m] and ``place_rot_error_deg``: IK residuals at the part and at the target.
+    [m] and ``place_rot_error_deg``: IK residuals at the part and at the target (with a regrasp, the turn the
+    fingers give the part). ``stance``: (n, 4) how the worker stands [m, m, deg, deg]
+    (:data:`~ergosim.posture.STANCE`; None: on the spot, straight legs).
     """
 
     action: str
@@ -67,16 +76,45 @@ class ActionMotion:
     place_rot_error_deg: float
     mtm: str = ""
     """The action's MTM-1 analysis (:class:`~ergosim.worker.action_timing.ActionTiming`)."""
+    stance: np.ndarray | None = None
 
     @property
     def duration(self) -> float:
         return float(self.t[-1])
 
+    @property
+    def stances(self) -> np.ndarray:
+        """(n, 4) stance [m, m, deg, deg], zeros when the motion has none."""
+        return self.stance if self.stance is not None else np.zeros((len(self.t), len(STANCE)))
 
-def _quat_to_mat(quat: np.ndarray) -> np.ndarray:
-    m = np.empty(9)
-    mujoco.mju_quat2Mat(m, np.asarray(quat, dtype=float))
-    return m.reshape(3, 3)
+    @property
+    def body(self) -> np.ndarray:
+        """(n, 26) posture and stance [deg, m]."""
+        return np.concatenate([self.angles, self.stances], axis=1)
+
+
+def _grip(scene: SceneView, part: str, part_pos_w: np.ndarray, part_rot: np.ndarray, r_frame: np.ndarray,
+          tgt_rot: np.ndarray, handover: bool = False) -> np.ndarray | None:
+    """Where the hand takes a part it inserts: by its outer end, the end that stays out (the part's
+    ``<part>_grasp_end`` site, as a robot takes a standing profile), when the part goes down into an upper
+    hollow (pushed home from above) or the robot holds it out (its gripper holds the middle); None (its
+    middle) for any other insertion or a part without that site."""
+    try:
+        end_w, _ = scene.site_pose(f"{part}_grasp_end")
+    except (KeyError, ValueError):
+        return None
+    offset = part_rot.T @ (r_frame.T @ (np.asarray(end_w, dtype=float) - np.asarray(part_pos_w, dtype=float)))
+    length = float(np.linalg.norm(offset))
+    upright = UPRIGHT_END_GRIP and (tgt_rot @ offset)[2] / max(length, 1e-12) >= UPRIGHT_COS
+    if length < 1e-6 or not (handover or upright):
+        return None
+    return offset
+
+
+UPRIGHT_END_GRIP = True
+"""A profile pushed down into an upper hollow is held by its upper end (False: by its middle)."""
+UPRIGHT_COS = 0.9
+"""A part stands upright at its target when its grip end points within 26 deg of straight up."""
 
 
 class Worker:
@@ -85,36 +123,34 @@ class Worker:
     PEAK_JOINT_SPEED = 350.0
     """deg/s, the fastest any joint angle turns (assumed: peak shoulder and elbow speeds of natural reaching
     stay well below this; the wrist and trunk of a re-orienting hand are capped with them)."""
-    APPROACH_UP = 0.06  # m above the part/target before the final approach
-    APPROACH_BACK = 0.04  # m towards the worker
-    PLACE_TOL = 0.005  # m, a keep-the-grip place pose worse than this falls back to position-only
 
     def __init__(self, subject: Subject, rate: float = 60.0) -> None:
         self.subject = subject
         self.rate = float(rate)
         self.model = subject.spec().compile()
-        self.ik = UpperBodyIK(self.model, subject.prior())
+        self.ik = WholeBodyIK(self.model, subject.prior())
         self.rest = rest_angles(subject)
+        self.rest_body = np.concatenate([self.rest, np.zeros(len(STANCE))])
         self.side = subject.handedness
-        root = self.ik.human.root_body
-        self._root_pos = self.model.body_pos[root].copy()
+        self._area: tuple[Any, StandingArea] | None = None
 
     # -- frames ---------------------------------------------------------------------------------------------
     def _frame(self, scene: SceneView) -> tuple[np.ndarray, np.ndarray]:
-        pos, quat = scene.body_pose("human_pelvis")
-        return np.asarray(pos, dtype=float), _quat_to_mat(quat)
+        pos, quat = scene.body_pose(ROOT_BODY)
+        return np.asarray(pos, dtype=float), to_mat(quat)
 
-    def _to_local(self, frame: tuple[np.ndarray, np.ndarray], pos: np.ndarray) -> np.ndarray:
-        p, r = frame
-        return r.T @ (np.asarray(pos, dtype=float) - p) + self._root_pos
-
-    def _approach(self, point: np.ndarray, angles: np.ndarray) -> np.ndarray:
-        """A point above ``point`` and a little towards the acting shoulder (approach/retreat waypoint)."""
-        self.ik._fk(np.deg2rad(angles))
-        shoulder = self.ik.data.xpos[self.ik.human.shoulder_body[self.side]]
-        back = shoulder[:2] - point[:2]
-        back = back / max(np.linalg.norm(back), 1e-9)
-        return point + np.array([*(self.APPROACH_BACK * back), self.APPROACH_UP])
+    def standing_area(self, scene: SceneView) -> StandingArea:
+        """Where the worker may stand in ``scene``: its ``standing_area`` if it gives one, else the cell's
+        (a scene without a cell description: one step either way and a 90 deg turn, nothing in the way)."""
+        given = getattr(scene, "standing_area", None)
+        if isinstance(given, StandingArea):
+            return given
+        config = getattr(scene, "config", None)
+        if self._area is None or self._area[0] is not config:
+            area = (area_from_footprints((), self.subject.stature) if config is None
+                    else area_of_cell(config, self.subject.stature))
+            self._area = (config, area)
+        return self._area[1]
 
     # -- planning -------------------------------------------------------------------------------------------
     def plan(self, scene: SceneView, geometry: Any, rng: np.random.Generator, action: str | None = None,
@@ -132,62 +168,21 @@ class Worker:
         part = geometry.part
         target_site = getattr(geometry, "target", None) or geometry.target_site
         kind = getattr(geometry, "kind", "place")
-        frame = self._frame(scene)
-        r_frame = frame[1]
+        origin, r_frame = self._frame(scene)
         part_pos_w, part_quat_w = scene.body_pose(part)
         tgt_pos_w, tgt_quat_w = scene.site_pose(target_site)
-        part_pos = self._to_local(frame, part_pos_w)
-        part_rot = r_frame.T @ _quat_to_mat(part_quat_w)
-        tgt_pos = self._to_local(frame, tgt_pos_w)
-        tgt_rot = r_frame.T @ _quat_to_mat(tgt_quat_w)
+        part_pose = (r_frame.T @ (np.asarray(part_pos_w) - origin), r_frame.T @ to_mat(part_quat_w))
+        tgt_pose = (r_frame.T @ (np.asarray(tgt_pos_w) - origin), r_frame.T @ to_mat(tgt_quat_w))
         prior = self.subject.prior().jittered(rng, self.subject.variability_deg)
-        ik, side = self.ik, self.side
-
-        def solve(q0: np.ndarray, point: np.ndarray, rot: np.ndarray | None = None,
-                  max_iter: int | None = None):
-            return ik.solve(q0, point, side, target_rot=rot, prior=prior, max_iter=max_iter)
-
-        def look(sol, point: np.ndarray) -> np.ndarray:
-            return ik.look_at(sol.angles, point, prior)
-
-        above_part = self._approach(part_pos, self.rest)
-        lift = solve(self.rest, above_part)  # approach and lift share their hand target and their posture
-        k1 = look(lift, part_pos)
-        grasp = solve(k1, part_pos)
-        k2 = look(grasp, part_pos)
-        hand_p, hand_r = ik.hand_pose(k2, side)
-        part_in_hand = hand_r.T @ (part_pos - hand_p)
-        rot_in_hand = hand_r.T @ part_rot
-        # Where the hand must be for the part to sit on the target site, keeping the grip. If that orientation
-        # is out of reach (e.g. a part taken from high up, set down on a bench) the hand reorients the part
-        # in the fingers, which is not modelled: the place pose is then position-only and the remaining
-        # orientation error of the part is reported (``place_rot_error_deg``).
-        place_rot = tgt_rot @ rot_in_hand.T
-        place_pos = tgt_pos - place_rot @ part_in_hand
-        k3 = look(lift, tgt_pos)
-        above_tgt = self._approach(place_pos, k3)
-        place = solve(k3, place_pos, place_rot, max_iter=25)
-        keep_grip = place.pos_error <= self.PLACE_TOL
-        if not keep_grip:
-            place = solve(k3, tgt_pos)
-            _, hand_r5 = ik.hand_pose(place.angles, side)
-            rot_err = np.rad2deg(np.linalg.norm(log_so3(tgt_rot @ (hand_r5 @ rot_in_hand).T)))
-            place = place._replace(rot_error_deg=float(rot_err))
-        k5 = look(place, tgt_pos)
-        k6 = look(solve(k5, above_tgt), tgt_pos)
-        # Lowering onto the target keeps the grip's orientation where that converges quickly; otherwise (and
-        # when the place pose is position-only) the hand comes down through the retreat pose.
-        k4 = k6
-        if keep_grip:
-            down = solve(k5, above_tgt, place_rot, max_iter=25)
-            if down.pos_error <= self.PLACE_TOL:
-                k4 = look(down, tgt_pos)
-
-        keys = [self.rest, k1, k2, k2, k3, k4, k5, k5, k5, k6, self.rest]
-        hands = np.array([ik.hand_pos(k, side) for k in keys])
         seats = getattr(geometry, "seats", kind in ("insert", "fasten"))
+        grip = _grip(scene, part, part_pos_w, part_pose[1], r_frame, tgt_pose[1], handover) if seats else None
+        keys = plan_keyposes(self.ik, self.rest_body, part_pose, tgt_pose, prior, self.standing_area(scene),
+                             self.side, grip)
+        bodies = keys.bodies
+        hands = self.ik.hand_path(bodies, self.side)
         timing = action_timing(hands, seats=seats, handover=handover,
-                               turn_time=getattr(geometry, "turn_time", 0.0))
+                               turn_time=getattr(geometry, "turn_time", 0.0), stances=bodies[:, _N:],
+                               regrasp_deg=keys.regrasp_deg)
         # MTM-1 standard times at the subject's pace, with trial-to-trial jitter on each segment; always
         # drawn, so the rng stream does not depend on its size
         jitter = rng.lognormal(0.0, self.subject.timing_variability, len(timing.durations))
@@ -195,16 +190,15 @@ class Worker:
         # MTM-1 times the hand's path; a segment that turns a joint far for a short hand path (the trunk or
         # the wrist re-orienting on the final approach) is slowed so no joint exceeds PEAK_JOINT_SPEED
         # (the peak of a minimum-jerk transition is 1.875 x its mean speed)
-        span = np.abs(np.diff(np.asarray(keys), axis=0)).max(axis=1)
+        span = np.abs(np.diff(bodies[:, :_N + 3][:, [*range(_N), _N + 2]], axis=0)).max(axis=1)
         seg = np.maximum(seg, 1.875 * span / self.PEAK_JOINT_SPEED)
         key_t = np.concatenate([[0.0], np.cumsum(seg)])
         n = int(np.floor(key_t[-1] * self.rate)) + 1
         t = np.arange(n) / self.rate
         if t[-1] < key_t[-1]:
             t = np.append(t, key_t[-1])  # end exactly at rest
-        angles = interpolate_keyframes(key_t, np.asarray(keys), t)
-        local = ik.hand_path(angles, side)
-        hand_world = (local - self._root_pos) @ r_frame.T + frame[0]
+        body = interpolate_keyframes(key_t, bodies, t)
+        hand_world = self.ik.hand_path(body, self.side) @ r_frame.T + origin
         kind_name = "fasten" if getattr(geometry, "turn_time", 0.0) else "insert" if seats else "place"
         phases = (
             Phase("reach", 0.0, key_t[2]),
@@ -215,26 +209,17 @@ class Worker:
             Phase("return", key_t[8], key_t[-1]),
         )
         return ActionMotion(
-            action=action or getattr(geometry, "action", part),
-            part=part,
-            side=side,
-            rate=self.rate,
-            t=t,
-            angles=angles,
-            hand_pos=hand_world,
-            phases=phases,
-            t_grasp=float(key_t[3]),
-            t_release=float(key_t[7]),
-            reach_error=grasp.pos_error,
-            place_error=place.pos_error,
-            place_rot_error_deg=place.rot_error_deg,
-            mtm=timing.analysis,
+            action=action or getattr(geometry, "action", part), part=part, side=self.side, rate=self.rate,
+            t=t, angles=body[:, :_N], hand_pos=hand_world, phases=phases, t_grasp=float(key_t[3]),
+            t_release=float(key_t[7]), reach_error=keys.reach_error, place_error=keys.place_error,
+            place_rot_error_deg=keys.place_rot_error_deg, mtm=timing.analysis, stance=body[:, _N:],
         )
 
     def rest_motion(self, duration: float) -> ActionMotion:
-        """The rest posture held for ``duration`` [s] (no part, no phases)."""
+        """The rest posture held for ``duration`` [s] on the worker's spot (no part, no phases)."""
         n = max(int(np.floor(duration * self.rate)) + 1, 1)
         t = np.arange(n) / self.rate
         angles = np.broadcast_to(self.rest, (n, len(self.rest))).copy()
         return ActionMotion("rest", "", self.side, self.rate, t, angles, np.full((n, 3), np.nan),
-                            (Phase("rest", 0.0, float(t[-1])),), np.nan, np.nan, 0.0, 0.0, 0.0)
+                            (Phase("rest", 0.0, float(t[-1])),), np.nan, np.nan, 0.0, 0.0, 0.0,
+                            stance=np.zeros((n, len(STANCE))))

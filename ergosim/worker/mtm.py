@@ -23,7 +23,11 @@ Cases used by the twin (the worker's key poses, :mod:`ergosim.worker.motion`):
   ways), NS non-symmetric.
 - Apply pressure AP2 (without regrasp): pushing a profile home in its socket.
 - Release RL1: normal release by opening the fingers.
-- Turn: rotation of the hand about the forearm axis (a screw turned with the fingers).
+- Turn: rotation of the hand about the forearm axis (a screw turned with the fingers, a profile turned
+  upright in the hand); Regrasp G2: the part changes its hold in the fingers.
+- Body motions (Table X): Sidestep, case 1 (complete when the leading leg contacts the floor): under 12 in it
+  takes no time of its own ("use Reach or Move time"), from 12 in 17.0 TMU plus 0.6 per further inch;
+  Turn Body, case 1, 45-90 deg: 18.6 TMU; Bend (B) 29.0 TMU and Arise (AB) 31.9 TMU.
 """
 
 from __future__ import annotations
@@ -33,7 +37,7 @@ import numpy as np
 from ergosim.errors import ConfigError
 
 __all__ = ["TMU_S", "INCH_M", "reach_tmu", "move_tmu", "GRASP_TMU", "POSITION_TMU", "APPLY_PRESSURE_TMU",
-           "RELEASE_TMU", "turn_tmu", "tmu_to_s"]
+           "RELEASE_TMU", "turn_tmu", "tmu_to_s", "BODY_TMU", "sidestep_tmu", "turn_body_tmu"]
 
 TMU_S = 0.036
 """One time-measurement unit [s] (1e-5 h; MTM-1 data card)."""
@@ -77,6 +81,28 @@ RELEASE_TMU = {"RL1": 2.0, "RL2": 0.0}
 _TURN_DEG = np.array([30, 45, 60, 75, 90, 105, 120, 135, 150, 165, 180], dtype=float)
 _TURN_SMALL = [2.8, 3.5, 4.1, 4.8, 5.4, 6.1, 6.8, 7.4, 8.1, 8.7, 9.4]
 """Table III (Turn), weight small (0-2 lb): TMU per degrees turned."""
+
+
+BODY_TMU = {"SS-C1": 17.0, "TBC1": 18.6, "B": 29.0, "AB": 31.9}
+"""Table X (Body, leg and foot motions): Sidestep case 1 at 12 in, Turn Body case 1 (45-90 deg), Bend,
+Arise."""
+_SIDESTEP_FROM_IN, _SIDESTEP_PER_IN = 12.0, 0.6
+
+
+def sidestep_tmu(distance_m: float) -> float:
+    """Sidestep, case 1, of ``distance_m`` [m] [TMU]: 0 under 12 in (the step goes with the hand's Reach or
+    Move), else 17.0 TMU at 12 in plus 0.6 TMU per further inch."""
+    d_in = max(float(distance_m), 0.0) / INCH_M
+    if d_in < _SIDESTEP_FROM_IN - 1e-9:
+        return 0.0
+    return BODY_TMU["SS-C1"] + _SIDESTEP_PER_IN * (d_in - _SIDESTEP_FROM_IN)
+
+
+def turn_body_tmu(degrees: float) -> float:
+    """Turn Body, case 1, through ``degrees`` [TMU]: none under 45 deg, one TBC1 (18.6 TMU) per 90 deg
+    started from 45 deg."""
+    deg = abs(float(degrees))
+    return 0.0 if deg < 45.0 else BODY_TMU["TBC1"] * float(np.ceil(deg / 90.0))
 
 
 def tmu_to_s(tmu: float) -> float:

@@ -16,7 +16,7 @@ import numpy as np
 from scipy.signal import lfilter
 
 from ergosim.human.mocap import MocapHuman
-from ergosim.human.model import HumanModel
+from ergosim.human.model import HumanModel, body_qpos
 from ergosim.posture import HUMAN_JOINTS
 from ergosim.worker.subjects import Subject
 
@@ -113,10 +113,11 @@ class MotionPlayback:
         self._q: np.ndarray | None = None
         self._qd: np.ndarray | None = None
 
-    def load(self, t: np.ndarray, angles_deg: np.ndarray) -> None:
-        """Set the trajectory: (n,) times [s] and (n, 22) true angles [deg]."""
+    def load(self, t: np.ndarray, angles_deg: np.ndarray, stance: np.ndarray | None = None) -> None:
+        """Set the trajectory: (n,) times [s], (n, 22) true angles [deg] and (n, 4) stance [m, m, deg, deg]
+        (None: on the spot)."""
         self._t = np.asarray(t, dtype=float)
-        self._q = np.deg2rad(np.asarray(angles_deg, dtype=float))
+        self._q = body_qpos(angles_deg, stance)
         dt = np.diff(self._t)[:, None]
         rates = np.diff(self._q, axis=0) / np.where(dt > 0, dt, 1.0)
         self._qd = np.vstack([rates, np.zeros((1, self._q.shape[1]))])

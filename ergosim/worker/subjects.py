@@ -19,7 +19,7 @@ from ergosim.errors import ConfigError
 from ergosim.human.anthropometry import SEGMENT_SCALES
 from ergosim.human.model import human_spec
 from ergosim.posture import HUMAN_JOINTS
-from ergosim.worker.ik import IKPrior, default_prior
+from ergosim.worker.ik_prior import IKPrior, default_prior
 
 __all__ = ["Subject", "make_subject", "make_subjects", "rest_angles", "FEMALE_FRACTION"]
 

@@ -1,0 +1,111 @@
+"""The posture priors of the whole-body IK: where each joint prefers to be, how freely it moves, where the
+eyes take the gaze.
+
+Every joint j of the body vector (:data:`BODY`: the 22 posture angles, then the stance) costs
+((q_j - pref_j) / sigma_j)^2: sigma is how far it moves for one unit of cost. The sources:
+
+- **Trunk and neck: ISO 11226:2000 / EN 1005-4 neutral zones.** Trunk inclination is neutral from 0 to
+  20 deg, trunk lateral bending and twisting up to 10 deg ("not clearly visible"), neck flexion from 0 to
+  25 deg and neck lateral bending up to 10 deg (as tabulated by Wagner et al., J Occup Med Toxicol 2020,
+  Table 2). One unit of cost is the edge of the joint's neutral zone; a subject's ``trunk_use`` scales the
+  trunk's. Extension of the trunk or the neck is outside the neutral zone: it costs as a comfort-box
+  excess. Neck rotation has no neutral zone there: 25 deg, the neck's flexion zone, is *assumed*.
+- **Eyes.** The eyes take the first ``eye_down_deg`` (20 deg, the subject's, docs/fidelity.md) of downward
+  gaze, 5 deg upward and 15 deg sideways before the head must turn (*assumed*: gaze shifts up to 15-20 deg
+  are made mostly by the eyes). The gaze itself is a stiff soft task (``gaze_sigma_deg`` 2 deg).
+- **Arm: assumed** (as before this issue): the elbow prefers 80 deg and costs more when almost straight
+  (a one-sided comfort box at ``elbow_comfort_deg``), the shoulder abduction and rotation priors keep the
+  elbow low, a shrug is allowed but costly.
+- **Stance: assumed.** A step of ``step_sigma`` (0.15 m), a turn of ``turn_sigma_deg`` (30 deg) and a knee
+  flexion of ``knee_sigma_deg`` (30 deg) each cost one unit: the worker steps and turns rather than twisting
+  the trunk beyond its neutral zone, and bends the knees rather than stooping for a low target. Whether
+  it may move its feet at all is the cell's standing area (:mod:`ergosim.worker.stance`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from ergosim.posture import HUMAN_JOINTS, STANCE
+
+__all__ = ["BODY", "IKPrior", "default_prior", "TRUNK_NEUTRAL_DEG", "NECK_NEUTRAL_DEG", "STANCE_SIGMA"]
+
+BODY: tuple[str, ...] = HUMAN_JOINTS + STANCE
+"""The body vector: posture angles [deg] then the stance [m, m, deg, deg] (26)."""
+_IDX = {n: i for i, n in enumerate(BODY)}
+
+TRUNK_NEUTRAL_DEG = {"trunk_flexion": 20.0, "trunk_lateral_bend": 10.0, "trunk_rotation": 10.0}
+"""ISO 11226:2000 / EN 1005-4: trunk inclination neutral 0-20 deg, side bending and twisting up to 10 deg."""
+NECK_NEUTRAL_DEG = {"neck_flexion": 25.0, "neck_lateral_bend": 10.0, "neck_rotation": 25.0}
+"""ISO 11226:2000: neck flexion neutral 0-25 deg, lateral bending up to 10 deg; rotation assumed (25 deg)."""
+STANCE_SIGMA = {"pelvis_x": 0.15, "pelvis_y": 0.15, "pelvis_rotation": 30.0, "knee_flexion": 30.0}
+"""Assumed: a 15 cm step, a 30 deg turn and 30 deg of knee flexion each cost one unit [m, m, deg, deg]."""
+
+
+@dataclass(frozen=True)
+class IKPrior:
+    """Preferred values and their softness, (26,) each in :data:`BODY` order [deg, or m for the pelvis
+    step], plus gaze sharing.
+
+    Outside the comfort box [``comfort_lo``, ``comfort_hi``] a joint costs one unit per ``comfort_sigma_deg``
+    more: an almost straight elbow or an arm behind the back is expensive. ``eye_down_deg``/``eye_up_deg``/
+    ``eye_side_deg``: gaze the eyes take before the head must turn; beyond that the gaze error costs one unit
+    per ``gaze_sigma_deg``.
+    """
+
+    pref: np.ndarray
+    sigma: np.ndarray
+    comfort_lo: np.ndarray
+    comfort_hi: np.ndarray
+    comfort_sigma_deg: float = 4.0
+    eye_down_deg: float = 20.0
+    eye_up_deg: float = 5.0
+    eye_side_deg: float = 15.0
+    gaze_sigma_deg: float = 2.0
+
+    def jittered(self, rng: np.random.Generator, deg: float) -> IKPrior:
+        """A copy whose preferred posture angles are perturbed by N(0, deg) (trial-to-trial variability);
+        the stance's preference (the worker's own spot) is not."""
+        pref = self.pref.copy()
+        pref[:len(HUMAN_JOINTS)] += rng.normal(0.0, deg, len(HUMAN_JOINTS))
+        return replace(self, pref=pref)
+
+
+def default_prior(trunk_use: float = 1.0, elbow_comfort_deg: float = 25.0,
+                  stance_sigma: dict[str, float] | None = None) -> IKPrior:
+    """Natural priors; ``trunk_use`` > 1 is a person who bends/twists the trunk sooner (stoop style);
+    ``stance_sigma`` overrides :data:`STANCE_SIGMA` entries."""
+    n = len(BODY)
+    pref = np.zeros(n)
+    sigma = np.full(n, 30.0)
+    lo_c = np.full(n, -360.0)
+    hi_c = np.full(n, 360.0)
+    box = {"elbow_flexion": (elbow_comfort_deg, 360.0), "shoulder_flexion": (-15.0, 360.0),
+           "shoulder_abduction": (-25.0, 360.0)}
+    # ISO 11226: trunk and neck extension lie outside their neutral zones (leaning back is "awkward")
+    for name in ("trunk_flexion", "neck_flexion"):
+        lo_c[_IDX[name]] = 0.0
+    arm = {
+        "shoulder_flexion": (15.0, 70.0),
+        "shoulder_abduction": (8.0, 18.0),  # elbow stays low
+        "shoulder_rotation": (25.0, 30.0),
+        "shoulder_elevation": (0.0, 10.0),  # shrug only when needed
+        "elbow_flexion": (80.0, 80.0),
+        "forearm_pronation": (20.0, 35.0),
+        "wrist_flexion": (0.0, 18.0),
+        "wrist_deviation": (0.0, 12.0),
+    }
+    for prefix in ("", "left_"):
+        for name, (p, s) in arm.items():
+            pref[_IDX[prefix + name]], sigma[_IDX[prefix + name]] = p, s
+        for name, (lo, hi) in box.items():
+            lo_c[_IDX[prefix + name]], hi_c[_IDX[prefix + name]] = lo, hi
+    for name, s in TRUNK_NEUTRAL_DEG.items():
+        sigma[_IDX[name]] = s * trunk_use
+    for name, s in NECK_NEUTRAL_DEG.items():
+        sigma[_IDX[name]] = s
+    for name, s in {**STANCE_SIGMA, **(stance_sigma or {})}.items():
+        sigma[_IDX[name]] = s
+    return IKPrior(pref, sigma, lo_c, hi_c)

@@ -1,0 +1,84 @@
+"""Pictures of the worker: stills of planned actions in the paper's cells and a frame of a real run's video.
+
+    python scripts/make_worker_pictures.py [--out docs/img] [--seed 0]
+
+Writes ``worker_multi_subject.png`` (a1, J from the side table; a2, L, the farthest piece, into the upper
+hollow), ``worker_kwear_validation.png`` (a1, J from the top ledge; a5, the assembly onto the lower ledge),
+each action at the part, mid-carry and at its target, and ``worker_video_frame.png``: a frame of the
+multi-subject HRC video (subject 0, the worker fetching J in repetition 1), with the video's overlay.
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from ergosim.cli import headless_gl
+
+headless_gl()  # before MuJoCo is imported
+
+import numpy as np  # noqa: E402
+from PIL import Image  # noqa: E402
+
+from ergosim.experiment.runner import run_subject, scenario_subject, subject_cell  # noqa: E402
+from ergosim.experiment.scenario import load_scenario  # noqa: E402
+from ergosim.twin.calibration import put_part  # noqa: E402
+from ergosim.video.still import render_still  # noqa: E402
+from ergosim.video.worker_stills import render_action_stills  # noqa: E402
+from ergosim.worker import Worker  # noqa: E402
+
+DEFAULT_OUT = Path(__file__).resolve().parents[1] / "docs" / "img"
+STILLS = {"multi-subject": (("a1", "a2"), None), "kwear-validation": (("a1", "a5"), "front")}
+"""scenario -> (actions, the cell's camera view; None: its first)"""
+
+
+def _stills(scenario_name: str, actions: tuple[str, ...], view: str | None, seed: int) -> np.ndarray:
+    scenario = load_scenario(scenario_name)
+    subject = scenario_subject(scenario, 0, seed)
+    cell = subject_cell(scenario, subject)
+    worker = Worker(subject)
+    rng = np.random.default_rng(seed)
+    rows = []
+    for name, geom in cell.actions.items():
+        if name in actions:
+            motion = worker.plan(cell, geom, rng, action=name)
+            rows.append(render_action_stills(cell, motion, geom.target, view=view,
+                                             title=f"{scenario_name} {name}: {motion.mtm}"))
+            cell.reset()
+            for done, g in cell.actions.items():  # the scene as the task leaves it before the next action
+                if done == name:
+                    break
+                put_part(cell, g.part, *cell.site_pose(g.target))
+                if g.seats:
+                    cell.seat(g.part)
+        put_part(cell, geom.part, *cell.site_pose(geom.target))
+        if geom.seats:
+            cell.seat(geom.part)
+    return np.concatenate(rows, axis=0)
+
+
+def main() -> int:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--out", type=Path, default=DEFAULT_OUT)
+    p.add_argument("--seed", type=int, default=0)
+    a = p.parse_args()
+    a.out.mkdir(parents=True, exist_ok=True)
+    for scenario_name, (actions, view) in STILLS.items():
+        path = a.out / f"worker_{scenario_name.replace('-', '_')}.png"
+        Image.fromarray(_stills(scenario_name, actions, view, a.seed)).save(path)
+        print(f"wrote {path}")
+    scenario = load_scenario("multi-subject", {"subjects": "1", "repetitions": "1", "modes": "hrc"})
+    run = run_subject(scenario, 0, a.seed, ("hrc",), record_mode="hrc").runs["hrc"]
+    first = next(r for r in run.allocations if r.action == "a1")
+    cell = subject_cell(scenario, scenario_subject(scenario, 0, a.seed))
+    image = render_still(cell, run, first.t_start + 0.45 * (first.t_end - first.t_start),
+                         header="multi-subject, HRC, subject 0: a1, the worker turns and steps to the side "
+                                "table")
+    path = a.out / "worker_video_frame.png"
+    Image.fromarray(image).save(path)
+    print(f"wrote {path}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
