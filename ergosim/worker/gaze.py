@@ -58,12 +58,12 @@ def gaze_jacobian(v: np.ndarray, excess: np.ndarray, rot: np.ndarray, jacp: np.n
     # its axis bookkeeping)
     dv[0] += v1 * w[2] - v2 * w[1]
     dv[1] += v2 * w[0] - v0 * w[2]
-    dv[2] += v0 * w[1] - v1 * w[0]
     rho2 = v0 * v0 + v1 * v1
     rho = math.sqrt(rho2)
     if excess[0] != 0.0 and rho2 > 1e-12:
         jac[0] = (-v1 * dv[0] + v0 * dv[1]) / rho2
     if excess[1] != 0.0 and rho > 1e-9:
+        dv[2] += v0 * w[1] - v1 * w[0]  # only the pitch needs the vertical
         n2 = rho2 + v2 * v2
         jac[1] = (v2 * (v0 * dv[0] + v1 * dv[1]) / rho - rho * dv[2]) / n2
     return jac

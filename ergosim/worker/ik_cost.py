@@ -7,6 +7,7 @@ pelvis drop): the priors (:mod:`ergosim.worker.ik_prior`) and the bounds, the st
 
 from __future__ import annotations
 
+import copy
 import math
 from typing import TYPE_CHECKING
 
@@ -73,10 +74,19 @@ class Problem:
         self.hi_c = prior.comfort_hi[act] * scale
         self.wc2 = np.deg2rad(prior.comfort_sigma_deg) ** -2.0
         self.wg2 = np.deg2rad(prior.gaze_sigma_deg) ** -2.0
-        self.eyes = tuple(np.deg2rad([prior.eye_side_deg, prior.eye_down_deg, prior.eye_up_deg]))
+        self.eyes = tuple(np.deg2rad([prior.eye_side_deg, prior.eye_down_deg, prior.eye_up_deg]).tolist())
         self.knee = knee
         self.knee_at = int(np.flatnonzero(knee)[0]) if knee.any() else -1
         self.scale = scale
+
+    def restricted(self, keep: np.ndarray) -> Problem:
+        """This problem over the variables of the mask ``keep`` only (the numbers of a Problem built over
+        them: every per-variable constant is computed element by element)."""
+        out = copy.copy(self)
+        for name in ("pref", "lo", "hi", "w2", "lo_c", "hi_c", "knee", "scale"):
+            setattr(out, name, getattr(self, name)[keep])
+        out.knee_at = int(np.flatnonzero(out.knee)[0]) if out.knee.any() else -1
+        return out
 
     def violation(self, qa: np.ndarray) -> np.ndarray:
         """Signed excess over the comfort box (0 inside)."""
@@ -217,7 +227,7 @@ class Task:
             grad -= self.a.T @ (self.wt * self.err)
             # Levenberg-Marquardt: a step that raises the cost is retried with more damping (towards a
             # scaled gradient step), a step that lowers it relaxes the damping
-            scale = np.diag(hess).copy()
+            scale = hess.diagonal().copy()
             for _ in range(_LM_TRIES):
                 # hess + diag(mu scale): hess's off-diagonal entries are never -0, so adding zeros there is
                 # the identity
@@ -274,7 +284,7 @@ def _frozen_step(hess: np.ndarray, grad: np.ndarray, qa: np.ndarray, lo: np.ndar
     """The rounds of :func:`_bounded_step` after the first: ``out`` frozen at the bounds ``new`` passed."""
     free = ~out
     fixed = np.zeros(len(grad))
-    fixed[out] = np.minimum(np.maximum(new[out], lo[out]), hi[out]) - qa[out]
+    fixed[out] = (np.minimum(np.maximum(new, lo), hi) - qa)[out]
     step = fixed
     for _ in range(3):
         f, g = np.flatnonzero(free), np.flatnonzero(~free)
@@ -285,6 +295,6 @@ def _frozen_step(hess: np.ndarray, grad: np.ndarray, qa: np.ndarray, lo: np.ndar
         out = free & ((new < lo) | (new > hi))
         if not np.count_nonzero(out):
             break
-        fixed[out] = np.minimum(np.maximum(new[out], lo[out]), hi[out]) - qa[out]
+        fixed[out] = (np.minimum(np.maximum(new, lo), hi) - qa)[out]
         free &= ~out
     return step
