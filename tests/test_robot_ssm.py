@@ -147,6 +147,38 @@ def test_a_handover_approach_with_the_part_is_not_stopped(cell):
     assert monitor.measure(_Plant) < 0.08 and track.speed == 0.0 and monitor.stopped["robot"] > 0
 
 
+def test_a_robot_on_a_handovers_transits_creeps_instead_of_stopping(cell):
+    """On a hand-over's transits (to the part, with it, home), a robot the separation would stop goes on at
+    the contact speed (0.05 m/s against 0.25 m/s in transit: a factor of 0.2), power and force limited: a
+    hand-over presented where the worker needs it is near the worker, and an idle worker there held the
+    robot still for good (the parallel multi-subject runs hung). Any other skill is still stopped."""
+
+    class _Plant:
+        data, time, ticks = cell.data, 0.0, 0
+
+    def phase(name):
+        return type("H", (Handover,), {"phase": name})
+
+    track = RobotTrack(cell)
+    monitor = SafetyMonitor(cell, {"robot": track}, SSMParams(ssm="on"), scale=True, every=1,
+                            dt_control=1 / 60)
+    mujoco.mj_forward(cell.model, cell.data)
+    hand = cell.model.body("human_left_hand").mocapid[0]
+    cell.data.mocap_pos[hand] = cell.data.site_xpos[cell.robot().tcp]
+    mujoco.mj_forward(cell.model, cell.data)
+    part = capsules_of(cell.model, cell.collision_geoms("L").tolist())
+    limits = track.params.limits
+    creep = limits.speed / limits.transit_speed
+    assert creep == pytest.approx(0.2)
+    for name, held, expected in (("transit", part, creep), ("home", None, creep), ("transit", None, creep)):
+        track.skill = object.__new__(phase(name))
+        monitor._held = lambda robot, held=held: held
+        assert monitor.measure(_Plant) < 0.08
+        assert track.speed == pytest.approx(expected), (name, held is not None)
+    track.skill = type("S", (), {"phase": "home"})()  # a place or an insertion going home: stopped
+    assert monitor.measure(_Plant) < 0.08 and track.speed == 0.0
+
+
 def test_planned_time_is_the_skills_time():
     """The robot's expected duration (the time cost) is its planned trajectory: executed, the skill takes
     that long (the gripper's closing stops where the fingers touch, so a little less)."""

@@ -164,3 +164,19 @@ def test_the_time_term_moves_work_to_the_faster_agent():
     assert paper.decide(np.zeros(5), done, set(), 0.0, 1).agent == "human"  # 1.0 < 2.5
     assert timed.decide(np.zeros(5), done, set(), 0.0, 1).agent == "robot"  # 1 + 2.5 < 10 + 1
     assert timed.price(list(graph.actions))[2][("g2", "robot")] == 1.0
+
+
+def test_the_robot_hands_every_part_over_in_parallel_beside_an_idle_worker(tmp_path):
+    """multi-subject, robot only, in parallel (separation monitoring on): each part is presented at the
+    assembly, in front of the idle worker, who does not step aside. The robot used to stop there for good
+    (the run hung); on a hand-over's transits it creeps at the contact speed instead, so every hand-over
+    is made, and the monitor reports the time it was slowed and how long it moved overlapping the worker."""
+    summary, team, rows = _run(tmp_path / "ronly", "multi-subject", "--mode", "r-only", "--reps", "1",
+                               "--set", "execution=parallel")
+    assert summary["status"] == "complete"
+    assert [(r["action"], r["agent"], r["status"]) for r in rows] == [
+        ("a1", "robot", "done"), ("a2", "robot", "done"), ("a3", "robot", "done"), ("a4", "robot", "done"),
+        ("a5", "human", "done")]
+    safety = team["modes"]["r-only"]["safety"]
+    assert safety["ssm"] is True and safety["robot_slowed_s"] > 0
+    assert safety["end_separation_min_m"] > 0.05

@@ -7,7 +7,8 @@ sets the robot's speed factor from ISO/TS 15066 (:mod:`ergosim.robot.ssm`): full
 protective separation distance, slower closer, a stop below S_p(0). A robot at a standstill on purpose
 (closing or opening the gripper, holding a part out at a handover, where the worker takes it from a
 stopped robot: ISO 10218-2 §5.11.5 hand-over window) is not scaled, nor is the last, contact-speed
-approach of a handover with the part in the gripper (power and force limiting, ISO/TS 15066 §5.5.5). The
+approach of a handover with the part in the gripper (power and force limiting, ISO/TS 15066 §5.5.5);
+on a hand-over's transits the robot slows no further than that contact speed. The
 monitor's figures (:class:`SafetyRecord`) go into the run's records.
 """
 
@@ -93,6 +94,16 @@ class SafetyMonitor(PlantHook):
         handover pose and a robot stopped short of it wait for each other forever)."""
         return held is not None and isinstance(track.skill, Handover) and track.skill.phase == "contact"
 
+    @staticmethod
+    def _presenting(track) -> bool:
+        """The robot is on a hand-over's transits (a :class:`~ergosim.robot.skills.Handover`: to the part,
+        with it to the worker, or home). Where separation would stop it, it goes on at the contact speed
+        (0.05 m/s, power and force limiting, ISO/TS 15066 §5.5.5) instead: a hand-over presented where the
+        worker needs it (at the assembly, issue 23) brings the robot near the worker by design, and an idle
+        worker waiting for the part, who does not step aside, would otherwise hold the robot still for
+        good (the parallel runs of multi-subject hung so, on the way in and on the way out)."""
+        return isinstance(track.skill, Handover) and track.skill.phase in ("transit", "home")
+
     def _held(self, robot: str) -> Capsules | None:
         cell = self.cell
         geoms = [g for p in cell.parts if cell.is_held(robot, p) for g in cell.collision_geoms(p).tolist()]
@@ -134,6 +145,8 @@ class SafetyMonitor(PlantHook):
                     limits = track.params.limits
                     nominal = limits.speed if track.skill.phase == "contact" else limits.transit_speed
                     factor = speed_scale(self.params, sep.distance, self._human_speed(sep, human), nominal)
+                    if self._presenting(track):
+                        factor = max(factor, limits.speed / nominal)
                     if factor <= 0.0:
                         self.stopped[name] += self.dt
                     elif factor < 1.0:
