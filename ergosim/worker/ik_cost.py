@@ -209,14 +209,14 @@ class Task:
             gjac = self._gaze_jacobian(gex)
             self._task()
             d, viol, (_, kg, kh) = self._at  # the last cost was at qa
-            # Huber weights (iteratively reweighted): a large gaze error pulls with a bounded force
-            wg = prob.wg2 * np.minimum(1.0, _GAZE_HUBER / np.maximum(np.abs(gex), 1e-12))
             # accumulated in place in the order of diag + gaze + task; where the eyes take the gaze the
             # gaze products are exact zeros, added as such (the same bits, signed zeros included)
             hess = np.diag(prob.w2 + prob.wc2 * (viol != 0.0) + 0.5 * kh * prob.knee)
             grad = prob.w2 * d + prob.wc2 * viol
             if gjac is not None or not skip_gaze:
                 gjac = np.zeros((2, n)) if gjac is None else gjac
+                # Huber weights (iteratively reweighted): a large gaze error pulls with a bounded force
+                wg = prob.wg2 * np.minimum(1.0, _GAZE_HUBER / np.maximum(np.abs(gex), 1e-12))
                 hess += (gjac.T * wg) @ gjac
                 grad += gjac.T @ (wg * gex)
             else:
