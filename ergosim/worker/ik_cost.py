@@ -286,15 +286,18 @@ def _frozen_step(hess: np.ndarray, grad: np.ndarray, qa: np.ndarray, lo: np.ndar
     fixed = np.zeros(len(grad))
     fixed[out] = (np.minimum(np.maximum(new, lo), hi) - qa)[out]
     step = fixed
+    g = np.flatnonzero(out)
     for _ in range(3):
-        f, g = np.flatnonzero(free), np.flatnonzero(~free)
-        rhs = -grad[f] - hess[f[:, None], g] @ fixed[g]  # hess[f[:, None], g] is np.ix_'s indexing
+        f = np.flatnonzero(free)
+        rows = f[:, None]  # hess[rows, g] is np.ix_(f, g)'s indexing
+        rhs = -grad[f] - hess[rows, g] @ fixed[g]
         step = fixed.copy()
-        step[f] = np.linalg.solve(hess[f[:, None], f], rhs)
+        step[f] = np.linalg.solve(hess[rows, f], rhs)
         new = qa + step
         out = free & ((new < lo) | (new > hi))
         if not np.count_nonzero(out):
             break
         fixed[out] = (np.minimum(np.maximum(new, lo), hi) - qa)[out]
         free &= ~out
+        g = np.flatnonzero(~free)
     return step
