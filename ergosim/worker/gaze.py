@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 
-__all__ = ["gaze_angles", "gaze_excess"]
+__all__ = ["gaze_angles", "gaze_excess", "gaze_jacobian", "look_excess"]
 
 
 def gaze_angles(v: np.ndarray) -> tuple[float, float]:
@@ -32,18 +32,38 @@ def gaze_excess(point: np.ndarray, eye: np.ndarray, rot: np.ndarray, jacp: np.nd
     Jacobians; ``side``, ``down``, ``up`` [rad]: the eyes' share. A component within the eyes' share is 0
     with a zero Jacobian row.
     """
+    v, excess = look_excess(point, eye, rot, side, down, up)
+    return excess, gaze_jacobian(v, excess, rot, jacp, jacr)
+
+
+def look_excess(point: np.ndarray, eye: np.ndarray, rot: np.ndarray, side: float, down: float,
+                up: float) -> tuple[np.ndarray, np.ndarray]:
+    """The direction to ``point`` in the head frame, (3,), and the gaze excess (2,) [rad] of
+    :func:`gaze_excess` without its Jacobian (what a line search needs)."""
     v = rot.T @ (point - eye)
     yaw, pitch = gaze_angles(v)
-    excess = np.array([yaw - min(max(yaw, -side), side), pitch - min(max(pitch, -up), down)])
+    return v, np.array([yaw - min(max(yaw, -side), side), pitch - min(max(pitch, -up), down)])
+
+
+def gaze_jacobian(v: np.ndarray, excess: np.ndarray, rot: np.ndarray, jacp: np.ndarray,
+                  jacr: np.ndarray) -> np.ndarray:
+    """The Jacobian (2, nv) of :func:`gaze_excess` from :func:`look_excess`'s ``v`` and ``excess``."""
     jac = np.zeros((2, jacp.shape[1]))
-    if not excess.any():
-        return excess, jac
-    dv = -rot.T @ jacp + np.cross(v, (rot.T @ jacr).T).T  # [v]x R^T J_r, column by column
-    rho2 = v[0] * v[0] + v[1] * v[1]
+    if excess[0] == 0.0 and excess[1] == 0.0:
+        return jac
+    dv = -rot.T @ jacp
+    w = rot.T @ jacr
+    v0, v1, v2 = v
+    # [v]x R^T J_r column by column, each row written out as np.cross computes it (the same bits, without
+    # its axis bookkeeping)
+    dv[0] += v1 * w[2] - v2 * w[1]
+    dv[1] += v2 * w[0] - v0 * w[2]
+    rho2 = v0 * v0 + v1 * v1
     rho = math.sqrt(rho2)
     if excess[0] != 0.0 and rho2 > 1e-12:
-        jac[0] = (-v[1] * dv[0] + v[0] * dv[1]) / rho2
+        jac[0] = (-v1 * dv[0] + v0 * dv[1]) / rho2
     if excess[1] != 0.0 and rho > 1e-9:
-        n2 = rho2 + v[2] * v[2]
-        jac[1] = (v[2] * (v[0] * dv[0] + v[1] * dv[1]) / rho - rho * dv[2]) / n2
-    return excess, jac
+        dv[2] += v0 * w[1] - v1 * w[0]  # only the pitch needs the vertical
+        n2 = rho2 + v2 * v2
+        jac[1] = (v2 * (v0 * dv[0] + v1 * dv[1]) / rho - rho * dv[2]) / n2
+    return jac

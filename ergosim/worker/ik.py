@@ -145,8 +145,8 @@ class WholeBodyIK:
         act = self.active[side]
         prob = Problem(self, act, pr, area, q0)
         if (prob.hi <= prob.lo).any():  # joints held where they are (a planted stance) are not variables
-            act = act[prob.hi > prob.lo]
-            prob = Problem(self, act, pr, area, q0)
+            keep = prob.hi > prob.lo
+            act, prob = act[keep], prob.restricted(keep)
         task = Task(self, side, np.asarray(target, dtype=float), target_rot,
                      np.asarray(target if gaze is None else gaze, dtype=float), act, prob)
         starts = [q0]
