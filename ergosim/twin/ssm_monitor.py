@@ -6,9 +6,9 @@ towards it (the nearest segment's, from the tracked posture between two samples)
 sets the robot's speed factor from ISO/TS 15066 (:mod:`ergosim.robot.ssm`): full speed above the
 protective separation distance, slower closer, a stop below S_p(0). A robot at a standstill on purpose
 (closing or opening the gripper, holding a part out at a handover, where the worker takes it from a
-stopped robot: ISO 10218-2 §5.11.5 hand-over window) is not scaled, nor is the last, contact-speed
-approach of a handover with the part in the gripper (power and force limiting, ISO/TS 15066 §5.5.5);
-on a hand-over's transits the robot slows no further than that contact speed. The
+stopped robot: ISO 10218-2 §5.11.5 hand-over window) is not scaled. On a hand-over, a collaborative
+operation under power and force limiting (ISO/TS 15066 §5.5.5), the robot slows no further than the
+contact speed, the paper's 0.05 m/s, and its contact-speed phases are not slowed. The
 monitor's figures (:class:`SafetyRecord`) go into the run's records.
 """
 
@@ -86,23 +86,15 @@ class SafetyMonitor(PlantHook):
         self.overlap_moving = 0.0
 
     @staticmethod
-    def _handover_window(track, held) -> bool:
-        """The robot brings a part into the hand-over window: a :class:`~ergosim.robot.skills.Handover`'s
-        contact-speed approach with the part in the gripper. There the robot already moves at the paper's
-        0.05 m/s, a power-and-force-limited speed (ISO/TS 15066 §5.5.5), and the worker's hand is where the
-        part is brought, so the separation monitor does not stop it (else an idle worker standing at the
-        handover pose and a robot stopped short of it wait for each other forever)."""
-        return held is not None and isinstance(track.skill, Handover) and track.skill.phase == "contact"
-
-    @staticmethod
-    def _presenting(track) -> bool:
-        """The robot is on a hand-over's transits (a :class:`~ergosim.robot.skills.Handover`: to the part,
-        with it to the worker, or home). Where separation would stop it, it goes on at the contact speed
-        (0.05 m/s, power and force limiting, ISO/TS 15066 §5.5.5) instead: a hand-over presented where the
-        worker needs it (at the assembly, issue 23) brings the robot near the worker by design, and an idle
-        worker waiting for the part, who does not step aside, would otherwise hold the robot still for
-        good (the parallel runs of multi-subject hung so, on the way in and on the way out)."""
-        return isinstance(track.skill, Handover) and track.skill.phase in ("transit", "home")
+    def _in_handover(track) -> bool:
+        """The robot is on a hand-over (a :class:`~ergosim.robot.skills.Handover`: to the part, with it to
+        the worker, away and home). A hand-over is a collaborative operation near the worker by design (the
+        part presented where the worker needs it, at the assembly, issue 23), under power and force limiting
+        (ISO/TS 15066 §5.5.5): where separation would stop the robot, it goes on at the contact speed, the
+        paper's 0.05 m/s, instead; its contact-speed phases are not slowed. An idle worker waiting for the
+        part, who does not step aside, would otherwise hold the robot still for good (the parallel runs of
+        multi-subject hung so: on the way in, on the way out, and on the retreat after a hand-over)."""
+        return isinstance(track.skill, Handover)
 
     def _held(self, robot: str) -> Capsules | None:
         cell = self.cell
@@ -141,11 +133,11 @@ class SafetyMonitor(PlantHook):
             closest = min(closest, sep.distance)
             if self.scale:
                 factor = 1.0
-                if track.moving and not self._handover_window(track, held):
+                if track.moving:
                     limits = track.params.limits
                     nominal = limits.speed if track.skill.phase == "contact" else limits.transit_speed
                     factor = speed_scale(self.params, sep.distance, self._human_speed(sep, human), nominal)
-                    if self._presenting(track):
+                    if self._in_handover(track):
                         factor = max(factor, limits.speed / nominal)
                     if factor <= 0.0:
                         self.stopped[name] += self.dt
