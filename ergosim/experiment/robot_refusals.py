@@ -100,8 +100,9 @@ def robot_refusals(task: AndOrGraph, cell) -> dict[tuple[str, str], str]:
     for op in task.operations:
         allowed.setdefault(op.action, set()).update(op.agents)
     mass = carried(task, cell)
-    points = {a: (s, e) for a, s, e in plan_points(task, cell)}
-    handovers = handover_poses(task, cell)
+    walk = list(_plan_walk(task, cell))
+    points = {a: (s, e) for a, s, e, _ in walk}
+    handovers = {a: pose for a, _, _, pose in walk if pose is not None}
     out = {}
     for action, agents in allowed.items():
         geom = cell.actions[action]

@@ -136,9 +136,9 @@ class SafetyMonitor(PlantHook):
                 if track.moving:
                     limits = track.params.limits
                     nominal = limits.speed if track.skill.phase == "contact" else limits.transit_speed
-                    factor = speed_scale(self.params, sep.distance, self._human_speed(sep, human), nominal)
-                    if self._in_handover(track):
-                        factor = max(factor, limits.speed / nominal)
+                    floor = limits.speed / nominal if self._in_handover(track) else 0.0
+                    factor = 1.0 if floor >= 1.0 else max(floor, speed_scale(
+                        self.params, sep.distance, self._human_speed(sep, human), nominal))
                     if factor <= 0.0:
                         self.stopped[name] += self.dt
                     elif factor < 1.0:
