@@ -24,7 +24,7 @@ KW = KWearParams()
 
 
 def _model(graph, rng, *, robot_cost=2.5, takt=math.inf, takt_weight=0.0, time_weight=0.0, alpha_low=0.6,
-           gamma=100.0, v_th=0.8, takes=None, next_weight=0.0):
+           gamma=100.0, v_th=0.8, takes=None, next_weight=0.0, leaves=None):
     names = [a.name for a in graph.agents]
     human = next(a.name for a in graph.agents if a.kind == "human")
     alphas = {a: rng.uniform(alpha_low, 1.0, 5) for a in graph.actions}
@@ -32,7 +32,7 @@ def _model(graph, rng, *, robot_cost=2.5, takt=math.inf, takt_weight=0.0, time_w
     return WearModel.build(graph.actions, names, human, alphas=alphas, kwear=KW,
                            cost=CostParams(gamma=gamma, v_th=v_th, robot_cost=robot_cost),
                            durations=durations, takt=takt, takt_weight=takt_weight, time_weight=time_weight,
-                           takes=takes, next_weight=next_weight,
+                           takes=takes, next_weight=next_weight, leaves=leaves,
                            robot_actions=[a for a in graph.actions if rng.random() < 0.8])
 
 
@@ -286,11 +286,13 @@ def _schedule_cost(graph, model, team, steps):
             start = max(free[agent], ready[part] if part else max(begun[p] for p in op.father))
             at = max(start + fetch, free[human], t_ready)
             v = v * math.exp(-model.rest_rate * max(0.0, at - w_last))
-            finish = w_last = free[human] = free[agent] = at + take
+            finish = w_last = free[human] = at + take
+            free[agent] = finish + model.leave[a, j]  # the robot's way home after the take
             total += 0.0 if reserved else float(model.agent_cost[j])
         else:
             start = max(free[agent], t_ready)
-            finish = free[agent] = start + d
+            finish = start + d
+            free[agent] = finish + model.leave[a, j]  # done at the release; the way home overlaps
             total += 0.0 if reserved else float(model.agent_cost[j])
         for p in op.father:
             ready[p], begun[p] = finish, start
@@ -328,9 +330,10 @@ def test_team_search_matches_brute_force_on_random_liaison_graphs(data):
     done, _, pruned = data.draw(calls(graph))
     rng = np.random.default_rng(data.draw(st.integers(0, 2**16)))
     takes = {(a, "robot"): float(rng.uniform(0.5, 3.0)) for a in graph.actions if rng.random() < 0.5}
+    leaves = {(a, "robot"): float(rng.uniform(0.0, 6.0)) for a in graph.actions if rng.random() < 0.5}
     model = _model(graph, rng, robot_cost=float(rng.uniform(0.9, 4.0)), takt=float(rng.uniform(5.0, 60.0)),
                    takt_weight=float(rng.choice([0.0, 0.3])), time_weight=float(rng.choice([0.0, 0.05, 0.3])),
-                   takes=takes, next_weight=float(rng.choice([0.0, 1.0])))
+                   takes=takes, next_weight=float(rng.choice([0.0, 1.0])), leaves=leaves)
     now = float(rng.uniform(0.0, 5.0))
     config = set(graph.configuration(done))
     ready = [op for op in graph.operations if op.name not in done and set(op.children) <= config]

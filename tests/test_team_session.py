@@ -12,6 +12,7 @@ import pytest
 
 from ergosim.cli import main
 from ergosim.errors import ConfigError
+from ergosim.experiment.runner import run_subject
 from ergosim.experiment.scenario import load_scenario
 from ergosim.planner import bundled_task
 from ergosim.twin.allocator import Allocator
@@ -180,3 +181,20 @@ def test_the_robot_hands_every_part_over_in_parallel_beside_an_idle_worker(tmp_p
     safety = team["modes"]["r-only"]["safety"]
     assert safety["ssm"] is True and safety["robot_slowed_s"] > 0
     assert safety["end_separation_min_m"] > 0.05
+
+
+def test_a_robots_place_is_done_at_its_release_and_its_way_home_overlaps_the_next_action():
+    """In parallel a robot's place, insertion or fastening ends when the robot lets the part go: the
+    worker starts what needs the part while the robot is still on its way home (as after a handover's
+    take), instead of waiting for the robot to be home."""
+    sc = load_scenario("gearbox", {"repetitions": "2", "subjects": "1", "execution": "parallel",
+                                   "modes": "hrc"})
+    run = run_subject(sc, 0, 0, ("hrc",)).runs["hrc"]
+    robot = [a for a in run.allocations if a.agent == "robot" and a.done]
+    assert robot  # the gearbox's robot places, inserts and fastens: it hands nothing over
+    for a in robot:
+        home = next(t1 for name, t0, t1, _ in run.robot_spans if name == "robot" and t0 == a.t_start)
+        assert home > a.t_end + 1.0  # the way home comes after the release
+        after = [b for b in run.allocations if b.agent == "human" and a.t_end - 1e-9 <= b.t_start < home]
+        assert after, (a.action, a.t_end, home)  # the worker started while the robot went home
+    assert run.outcomes[0].outcome == "completed"

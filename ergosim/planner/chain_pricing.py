@@ -52,6 +52,7 @@ class Pricing(ABC):
         """(A,) what the next repetition pays at most per action (its cheapest robot, where one may do it)."""
         self.duration = model.duration[np.ix_(acts, agents)]
         self.rest_s = model.rest[np.ix_(acts, agents)]
+        self.leave = model.leave[np.ix_(acts, agents)]
         self.cost = np.repeat(model.agent_cost[agents][None, :], len(acts), axis=0)
         """(A, N) the price of a robot's step (c_r; a pricing may override pairs for its call)."""
         found = np.flatnonzero(agents == model.human)

@@ -10,10 +10,12 @@ HRT weighs makespan beside ergonomics in the same way):
   children exist (list scheduling: a semi-active schedule, no agent idles while its next step could start);
 - a worker step rests the worker from its last step to its start (eq. 5) and wears it over the step
   (eq. 9), priced Σ γ_i (eq. 10-11);
-- a robot step costs c_r; a robot's handover fetches the part from when the robot is free and the part's
-  sub-assembly exists (or, when the part is not known, the operation's children are under way), and ends
-  with the worker taking it when the part is at the handover pose, the worker is free and the operation's
-  other children exist (the worker rests until then; the take's own wear is not predicted);
+- a robot step costs c_r; a robot's place, insertion or fastening is done when it lets the part go, and the
+  robot is free again after its way home (``leave``), which overlaps the next steps; a robot's handover
+  fetches the part from when the robot is free and the part's sub-assembly exists (or, when the part is
+  not known, the operation's children are under way), and ends with the worker taking it when the part is
+  at the handover pose, the worker is free and the operation's other children exist (the worker rests
+  until then; the take's own wear is not predicted);
 - time: ``time_weight`` × the schedule's makespan (its critical path through durations and waits) and
   ``takt_weight`` × its overrun of the takt (:mod:`ergosim.planner.wear_chain`).
 
@@ -147,7 +149,7 @@ class TeamPricing(Pricing):
         v_new = np.where(human[:, None], v_hat, v_rest)
         finish = np.where(handover, take_at + take, start + self.duration[action, agent])
         free = free.copy()
-        free[rows, agent] = finish
+        free[rows, agent] = finish + self.leave[action, agent]
         free[handover, h] = finish[handover]
         part_t = np.where(fm, finish[:, None], part_t)
         part_s = np.where(fm, start[:, None], part_s)

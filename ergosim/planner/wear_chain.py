@@ -60,7 +60,10 @@ class WearModel:
     rests while a robot acts (a robot's handover ends with the worker taking the part: that take is not
     rest; its wear is not predicted). ``takt`` [s], ``takt_weight`` [cost per s past the takt],
     ``time_weight`` [cost per s of the plan's duration]. ``next_weight``: weight of the wear the plan leaves
-    to the next repetition (:func:`next_cost`); ``robot_ok`` (A,): actions some robot may do.
+    to the next repetition (:func:`next_cost`); ``robot_ok`` (A,): actions some robot may do. ``leave``
+    (A, N): the seconds a robot still needs after the operation is done before it is free again (its way
+    home after letting the part go, in parallel execution; default 0: the operation ends with the robot
+    home).
     """
 
     actions: tuple[str, ...]
@@ -77,6 +80,7 @@ class WearModel:
     time_weight: float = 0.0
     next_weight: float = 0.0
     robot_ok: np.ndarray | None = None
+    leave: np.ndarray | None = None
     v_th: np.ndarray = field(init=False, repr=False)
     action_index: dict = field(init=False, repr=False)
     agent_index: dict = field(init=False, repr=False)
@@ -92,6 +96,10 @@ class WearModel:
             if arr.shape != (a, n) or not np.all(np.isfinite(arr) & (arr >= 0)):
                 raise ConfigError(f"{name} must be ({a}, {n}) finite seconds >= 0", where=f"WearModel.{name}")
             object.__setattr__(self, name, arr)
+        leave = np.zeros((a, n)) if self.leave is None else np.array(self.leave, dtype=float)
+        if leave.shape != (a, n) or not np.all(np.isfinite(leave) & (leave >= 0)):
+            raise ConfigError(f"leave must be ({a}, {n}) finite seconds >= 0", where="WearModel.leave")
+        object.__setattr__(self, "leave", leave)
         robot_ok = np.ones(a, dtype=bool) if self.robot_ok is None else np.array(self.robot_ok, dtype=bool)
         if robot_ok.shape != (a,):
             raise ConfigError(f"robot_ok must be ({a},) booleans", where="WearModel.robot_ok")
@@ -116,11 +124,13 @@ class WearModel:
               takes: Mapping[tuple[str, str], float] | None = None,
               robot_costs: Mapping[str, float] | None = None, takt: float = math.inf,
               takt_weight: float = 0.0, time_weight: float = 0.0, next_weight: float = 0.0,
-              robot_actions: Sequence[str] | None = None) -> WearModel:
+              robot_actions: Sequence[str] | None = None,
+              leaves: Mapping[tuple[str, str], float] | None = None) -> WearModel:
         """From the run's dictionaries: ``alphas`` action -> (p,) α; ``durations`` (action, agent) -> s;
         ``takes`` (action, robot) -> the worker's seconds at the end of a robot's handover; ``robot_costs``
         robot -> c_r (default ``cost.robot_cost`` for every agent but ``human``); ``robot_actions``: the
-        actions some robot may do (default all)."""
+        actions some robot may do (default all); ``leaves`` (action, robot) -> the robot's seconds after
+        the operation is done (default none)."""
         actions, agents = tuple(actions), tuple(agents)
         if human not in agents:
             raise ConfigError(f"unknown human agent {human!r}; agents are {list(agents)}", where="WearModel")
@@ -139,12 +149,16 @@ class WearModel:
             if a in actions and agent in agents:
                 i, j = actions.index(a), agents.index(agent)
                 rest[i, j] = max(0.0, duration[i, j] - seconds)
+        leave = np.zeros_like(duration)
+        for (a, agent), seconds in (leaves or {}).items():
+            if a in actions and agent in agents and agent != human:
+                leave[actions.index(a), agents.index(agent)] = seconds
         agent_cost = np.array([math.nan if x == human else float((robot_costs or {}).get(x, cost.robot_cost))
                                for x in agents])
         robot_ok = None if robot_actions is None else np.array([a in set(robot_actions) for a in actions])
         return cls(actions, agents, agents.index(human), alpha, kwear.r / kwear.C, cost, agent_cost, duration,
                    rest, takt=takt, takt_weight=takt_weight, time_weight=time_weight, next_weight=next_weight,
-                   robot_ok=robot_ok)
+                   robot_ok=robot_ok, leave=leave)
 
     def price(self, v_hat: np.ndarray) -> np.ndarray:
         """Eq. 10-11 for predictions (..., p): Σ_i V̂_i + Γ·[V̂_i ≥ V_th,i] (as

@@ -103,6 +103,21 @@ class Skill(ABC):
         except PathError:
             return float("nan")
 
+    def planned_release(self) -> float:
+        """How long the skill would take as planned until its fingers have opened on the part it let go
+        [s] (:attr:`~ergosim.robot.skill_program.SkillProgram.release_steps`); NaN if unreachable."""
+        try:
+            program = self.plan()
+        except PathError:
+            return float("nan")
+        return program.release_steps * program.dt
+
+    @property
+    def released(self) -> bool:
+        """The part is let go and the fingers have opened: what follows is the way home."""
+        done = [type(s) for s, _ in self.executed]
+        return sp.LetGo in done and sp.Open in done[done.index(sp.LetGo):]
+
     @property
     def zone(self) -> float:
         """The contact zone [m] the program was planned with (``approach`` before it is planned)."""

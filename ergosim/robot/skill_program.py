@@ -139,3 +139,15 @@ class SkillProgram:
     def planned_time(self) -> float:
         """How long the program takes as planned [s]."""
         return self.planned_steps * self.dt
+
+    @property
+    def release_steps(self) -> int:
+        """Physics steps as planned until the fingers have opened on the part let go (the part is where
+        it goes; the rest is the way home): all of them if the program lets nothing go."""
+        steps, let_go = 0, False
+        for s in self.segments:
+            steps += s.steps
+            let_go |= isinstance(s, LetGo)
+            if let_go and isinstance(s, Open):
+                return steps
+        return self.planned_steps

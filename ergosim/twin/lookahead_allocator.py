@@ -10,8 +10,14 @@ A robot whose skill cannot be planned from the cell as laid out (no expected dur
 action. Once an (action, agent) has been executed, its expected duration is the mean of its executions so
 far. A handover's planned estimate adds the worker's whole action for the take, which overstates it: once a
 robot's handover has been observed, the worker's take (observed minus the robot's planned part) replaces
-that estimate for the robot's other handovers too. In parallel execution a handover's span includes its
-wait for the worker, so handovers keep their expectations there.
+that estimate for the robot's other handovers too.
+
+In parallel execution a handover's span includes its wait for the worker, so handovers keep their
+expectations there. A robot's action is done when the robot has let the part go (a handover's after the
+worker's take; the robot's way home overlaps the next actions, :mod:`ergosim.twin.team_session`): its
+expected duration runs to the release, and the planned way home is the robot's ``leave``
+(:class:`~ergosim.planner.wear_chain.WearModel`). The separation monitor slows a robot near the worker, so
+its unobserved actions are expected as much slower than planned as its observed ones were, on average.
 
 The decision record keeps the paper's order-free V̂ and costs of this decision point (what allocations.csv
 prints) and adds, in ``through``, the cost of the chosen sequence.
@@ -68,6 +74,16 @@ class LookaheadAllocator(Allocator):
         """Build the wear model from the subject's calibration (α, its KWear constants), the cell's expected
         durations and the protocol's cost and time settings."""
         self.durations = expected_durations(cell, robots, self.allowed, self.human, human_seconds)
+        self.leaves: dict[tuple[str, str], float] = {}
+        if cfg.team.execution == "parallel":  # the robot's way home overlaps the next actions
+            for (action, agent), seconds in list(self.durations.items()):
+                if agent in robots:
+                    geom = cell.actions[action]
+                    planned = robots[agent].planned_time(geom)
+                    release = robots[agent].planned_release(geom)
+                    if math.isfinite(planned) and math.isfinite(release):
+                        self.durations[(action, agent)] = seconds - (planned - release)
+                        self.leaves[(action, agent)] = planned - release
         self.takes = {(a, r): human_seconds.get(a, 0.0) for a, agents in self.allowed.items()
                       if cell.actions[a].handover is not None for r in agents if r in self.robots}
         self.unreachable = {(a, r) for a, agents in self.allowed.items() for r in agents
@@ -94,11 +110,23 @@ class LookaheadAllocator(Allocator):
             durations[key] = part + takes[key]
         for key, seen in self._observed.items():
             durations[key] = sum(seen) / len(seen)
+        # In parallel the separation monitor slows a robot near the worker: a robot's executions so far,
+        # against their plans, say how much slower its other actions will be than planned.
+        slow: dict[str, list[float]] = {}
+        for (action, agent), seen in self._observed.items():
+            planned = self.durations.get((action, agent), 0.0)
+            if (action, agent) in self.leaves and (action, agent) not in takes and planned > 0:
+                slow.setdefault(agent, []).append(sum(seen) / len(seen) / planned)
+        for key in self.leaves:
+            if key not in self._observed and key[1] in slow:
+                take = takes.get(key, 0.0)
+                durations[key] = take + (durations[key] - take) * sum(slow[key[1]]) / len(slow[key[1]])
         self.model = WearModel.build(
             self.graph.actions, [a.name for a in self.graph.agents], self.human, alphas=self.index.alphas,
             kwear=self.index.params, cost=self.cost, durations=durations, takes=takes, takt=self.takt,
             takt_weight=self.takt_weight, time_weight=self.time_weight, next_weight=self.next_weight,
-            robot_actions=[a for a, agents in self.allowed.items() if agents & set(self.robots)])
+            robot_actions=[a for a, agents in self.allowed.items() if agents & set(self.robots)],
+            leaves=self.leaves)
 
     def observe(self, action: str, agent: str, seconds: float) -> None:
         """A completed execution: from now on the (action, agent)'s expected duration is the mean of those

@@ -4,7 +4,8 @@ starts now (:mod:`ergosim.planner.lookahead_team`), or waits.
 The team's state comes from the session's jobs (:class:`~ergosim.twin.team_allocator.Busy`) and the expected
 durations: an agent's job ends at its start plus the expected duration of its (action, agent); a robot
 fetching a part to hand it over holds the action (reserved) and reaches the handover pose at its start plus
-the robot's part of the handover; the worker taking a handed part is busy for the worker's take. The
+the robot's part of the handover; the worker taking a handed part is busy for the worker's take; a robot
+that let its part go is free after its expected way home (``leave``). The
 worker's V at the end of its current action is predicted from the share of the action still to come (wear
 spread evenly over the action, eq. 9 with α^share). A job past its expected end is taken to end just after
 now (it is still running).
@@ -44,6 +45,9 @@ def team_state(alloc: LookaheadAllocator, v_now: np.ndarray, board: TeamBoard, b
         i, j = model.action_index[action], model.agent_index[robot]
         return float(model.duration[i, j] - model.rest[i, j])
 
+    def leave(action: str, robot: str) -> float:
+        return float(model.leave[model.action_index[action], model.agent_index[robot]])
+
     v = np.array(v_now, dtype=float)
     worker_free = now
     free: dict[str, float] = {}
@@ -62,8 +66,14 @@ def team_state(alloc: LookaheadAllocator, v_now: np.ndarray, board: TeamBoard, b
             free[job.agent] = max(t0 + seconds(job.action, job.agent) - take(job.action, job.agent), now)
         elif job.state in ("moving", "settling"):
             end = max(t0 + seconds(job.action, job.agent), now + _STILL_RUNNING)
-            free[job.agent] = ends[job.action] = end
-        else:  # a robot going home, or handing over (the worker's take says when it ends)
+            ends[job.action] = end
+            free[job.agent] = end + leave(job.action, job.agent)
+        elif job.state == "taken":  # the worker's take, then the way home
+            free[job.agent] = max(worker_free, now) + leave(job.action, job.agent)
+        elif job.state == "homing":  # on its way home after letting the part go
+            free[job.agent] = max(t0 + seconds(job.action, job.agent) + leave(job.action, job.agent),
+                                  now + _STILL_RUNNING)
+        else:
             free[job.agent] = now + _STILL_RUNNING
     running = {op: ends.get(alloc.action_of(op), now + _STILL_RUNNING) for op in board.running.values()}
     reserved = {action: agent for action, (agent, _) in board.reserved.items()}

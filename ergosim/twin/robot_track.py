@@ -78,6 +78,16 @@ class RobotTrack:
         NaN if unreachable); nothing moves."""
         return self.skill_for(geom).planned_time()
 
+    def planned_release(self, geom) -> float:
+        """The robot's expected time for ``geom`` until it has let the part go [s] (the way home after it
+        left out; NaN if unreachable); nothing moves."""
+        return self.skill_for(geom).planned_release()
+
+    @property
+    def released(self) -> bool:
+        """The running skill has let its part go and is on its way home."""
+        return self.active and self.skill.released
+
     def skill_for(self, geom):
         """The skill that does ``geom``, not started."""
         cell = self.cell

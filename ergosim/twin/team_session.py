@@ -260,8 +260,10 @@ class TeamSession(Session):
                 job.state = "waiting"
                 self._dirty = True
         elif state == "moving":
-            if track.done:
-                if not track.ok:
+            if track.done or track.released:
+                # Let go, the part is where it goes: the operation ends there and the robot's way home goes
+                # on while the next one starts (as after a handover's take).
+                if track.done and not track.ok:
                     self._robot_outcome(job, Outcome(False, track.status_name, job.t0, plant.time,
                                                      track.message))
                     return
@@ -306,15 +308,17 @@ class TeamSession(Session):
                                         f"the worker did not complete the handover ({out.status})")
 
     def _robot_outcome(self, job: _Job, out: Outcome) -> None:
-        """A place, insertion or fastening by a robot ended (the robot is home: its skill is over)."""
+        """A place, insertion or fastening by a robot ended (the part let go; the robot may still be on its
+        way home, and is free once its skill is over)."""
         if out.ok:
             self.board.finish(job.id)
         else:
             self.board.drop(job=job.id)
         self._record(job, out)
+        self._dirty = True  # what the operation held is free: decide again
         if job.track.done:
             self._free_robot(job)
-        else:  # a timeout: the skill still runs; the robot is not free before it ends
+        else:  # on its way home after the release, or a timeout: not free before its skill ends
             job.state = "homing"
 
     def _free_robot(self, job: _Job) -> None:
