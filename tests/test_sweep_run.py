@@ -212,6 +212,7 @@ def test_sigterm_stops_the_sweep_and_keeps_the_finished_units(local, tmp_path):
     assert all(r == ref[r["unit"]] for r in table.to_pylist())
 
 
+@pytest.mark.slow
 def test_a_failed_unit_is_recorded_and_the_sweep_goes_on(tmp_path, capsys):
     """At 2.2 m nobody reaches J on the shelf: those units fail with the reachability error; the 1.6 m cell
     runs. Exit 3; a re-run skips the failed units unless --retry-failed."""
