@@ -187,6 +187,7 @@ def test_the_robot_hands_every_part_over_in_parallel_beside_an_idle_worker(tmp_p
     assert safety["end_separation_min_m"] > 0.05
 
 
+@pytest.mark.slow
 def test_a_robots_place_is_done_at_its_release_and_its_way_home_overlaps_the_next_action():
     """In parallel a robot's place, insertion or fastening ends when the robot lets the part go: the
     worker starts what needs the part while the robot is still on its way home (as after a handover's
