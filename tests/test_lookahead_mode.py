@@ -96,7 +96,7 @@ def test_settings_and_observed_durations(multi):
     takt_weight, time_weight, limits = lookahead_settings(multi.protocol)
     assert takt_weight == pytest.approx(100.0 / 38.0) and time_weight == 0.0 and limits.beam_width == 6
     parallel = api.load("multi-subject", {"execution": "parallel"}).protocol
-    assert lookahead_settings(parallel)[1] == pytest.approx(100.0 / 38.0)
+    assert lookahead_settings(parallel)[1] == pytest.approx(0.375 * 100.0 / 38.0)
     model = alloc.model
     a2, robot = model.action_index["a2"], model.agent_index["robot"]
     planned = model.duration[a2, robot]
@@ -138,7 +138,8 @@ def test_parallel_first_decisions_do_not_hand_the_robot_what_the_worker_does_far
     schedule's makespan: the worker starts g3 at t = 0 and nothing is given to the robot then.
 
     (Not claimed: that the worker never waits. The robot's expected durations come from trajectories
-    planned on the cell as laid out at setup; its g4 was expected to take 11.1 s and took 18.4 s here.)"""
+    planned on the cell as laid out at setup; its g4 is expected to take 7.8 s to the release at first, and
+    took 12.9 s in parallel under the separation monitor.)"""
     sc = api.load("gearbox", {"repetitions": "1", "subjects": "1", "execution": "parallel",
                               "modes": "kwear-lookahead,hrc"})
     runs = run_subject(sc, 0, 9, ("kwear-lookahead", "hrc")).runs
@@ -150,3 +151,27 @@ def test_parallel_first_decisions_do_not_hand_the_robot_what_the_worker_does_far
     first = [d for d in run.decisions if d.time == 0.0]
     assert first and all(d.agent == "human" for d in first) and first[0].action == "g3"
     assert all(a.status == "done" for a in run.allocations)
+
+
+@pytest.mark.slow
+def test_in_parallel_a_robot_is_expected_as_slow_as_it_was_and_free_after_its_way_home():
+    """In parallel a robot's expected durations run to its release (its way home is ``leave``), and once it
+    has executed an action, its actions not yet executed are expected as much slower than planned as that
+    one was (the separation monitor slows it near the worker). Sequential execution keeps both as before."""
+    def allocator(execution):
+        sc = api.load("gearbox", {"repetitions": "1", "subjects": "1", "execution": execution,
+                                  "modes": "kwear-lookahead"})
+        return subject_session(sc, 0, 0, "kwear-lookahead").allocator
+
+    parallel, sequential = allocator("parallel"), allocator("sequential")
+    m = parallel.model
+    robot, g2, g4 = m.agent_index["robot"], m.action_index["g2"], m.action_index["g4"]
+    planned2, planned4 = m.duration[g2, robot], m.duration[g4, robot]
+    assert m.leave[g4, robot] > 1.0 and not sequential.model.leave.any()
+    assert planned4 == pytest.approx(sequential.model.duration[g4, robot] - m.leave[g4, robot])
+    parallel.observe("g4", "robot", 2.0 * planned4)
+    assert parallel.model.duration[g4, robot] == pytest.approx(2.0 * planned4)
+    assert parallel.model.duration[g2, robot] == pytest.approx(2.0 * planned2)
+    before = sequential.model.duration[g2, robot]
+    sequential.observe("g4", "robot", 2.0 * sequential.model.duration[g4, robot])
+    assert sequential.model.duration[g2, robot] == pytest.approx(before)

@@ -36,19 +36,26 @@ from ergosim.planner.wear_chain import WearModel
 from ergosim.twin.allocator import Allocator, Decision, SequenceChoice
 from ergosim.twin.durations import expected_durations
 
-__all__ = ["LookaheadAllocator", "lookahead_settings"]
+__all__ = ["LookaheadAllocator", "lookahead_settings", "PARALLEL_TIME_SHARE"]
+
+
+PARALLEL_TIME_SHARE = 0.375
+"""The parallel default ``time_weight`` as a share of the takt weight: chosen from the sweep of
+docs/allocation_modes.md over both bundled team scenarios (gearbox 3 subjects × 4 repetitions, multi-subject
+12 × 10; shares 0.25-2), the one tested share at which the gearbox gains ≥ 15 % throughput with ≤ 10 % more
+KWear; multi-subject's figures barely move with it. Not calibrated."""
 
 
 def lookahead_settings(cfg) -> tuple[float, float, SearchLimits]:
     """(takt weight [cost per s past the takt], time weight [cost per s of plan duration], search limits)
     of protocol ``cfg``: ``takt_weight`` (None: Γ/takt, assumed: a whole takt of overrun costs as much as one
-    joint past V_th, eq. 11), ``time_weight`` (None: 0 in sequential execution, the takt weight in parallel),
-    ``lookahead_exact`` and ``lookahead_beam``."""
+    joint past V_th, eq. 11), ``time_weight`` (None: 0 in sequential execution, :data:`PARALLEL_TIME_SHARE`
+    × the takt weight in parallel), ``lookahead_exact`` and ``lookahead_beam``."""
     look = cfg.lookahead
     takt_weight = cfg.cost.gamma / cfg.pacing.takt if look.takt_weight is None else look.takt_weight
     time_weight = look.time_weight
     if time_weight is None:
-        time_weight = takt_weight if cfg.team.execution == "parallel" else 0.0
+        time_weight = PARALLEL_TIME_SHARE * takt_weight if cfg.team.execution == "parallel" else 0.0
     return float(takt_weight), float(time_weight), SearchLimits(exact_sequences=look.lookahead_exact,
                                                                beam_width=look.lookahead_beam)
 
