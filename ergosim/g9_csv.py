@@ -56,6 +56,7 @@ def _significand(ax: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     np.clip(e, -6, 9, out=e)
     e = e.astype(np.int64)
     s = ax * _P10[np.clip(8 - e, 0, 15)]
+    # Both sets are found before either is moved: a value that is still out of range stays inexact.
     for off, wrong in ((1, np.flatnonzero(s >= 1e9)), (-1, np.flatnonzero(s < 1e8))):
         e[wrong] += off
         s[wrong] = ax[wrong] * _P10[np.clip(8 - e[wrong], 0, 15)]
