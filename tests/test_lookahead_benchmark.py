@@ -3,6 +3,8 @@
 
 from __future__ import annotations
 
+import pytest
+
 from ergosim.planner.benchmark_lookahead import (
     LOOKAHEAD_CASES,
     beam_quality,
@@ -13,6 +15,7 @@ from ergosim.planner.benchmark_lookahead import (
 )
 
 
+@pytest.mark.slow
 def test_quick_rows_and_the_target_row():
     rows = run_lookahead_benchmark(quick=True)
     assert [(r.task, r.agents, r.execution) for r in rows] == list(LOOKAHEAD_CASES[:3])
