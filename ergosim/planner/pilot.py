@@ -40,6 +40,9 @@ class PilotTable:
         self.data = np.zeros((64, 2 * p + 2, n_a + 1))  # field-major: each field's splits contiguous
         self.r = np.zeros(64, dtype=np.int64)
         self.size = 0
+        self.later = np.triu(np.full((n_a + 1, n_a + 1), float(pricing.model.cost.gamma)), 1)
+        """Γ where split m is after step j (j < m): a split's Γ terms are its matrix product with the joint
+        counts at V_th after each step."""
 
     def rows(self, pricing, cids: np.ndarray, need: np.ndarray) -> np.ndarray:
         """The slots of configurations ``cids`` (n,), computing those not seen yet from ``need`` (n, A)."""
@@ -108,15 +111,19 @@ class PilotTable:
         rows = self.data[ix][:, :, :top]  # (n, field, split); whole rows gather faster than a slice
         model = pr.model
         total = rows[:, 2 * p] + (v[:, None, :] @ rows[:, :p])[:, 0]
-        # the worker's V after its (m + 1)-th step (without rest) grows with m: Γ for each joint at V_th
-        # from the step it gets there, Σ_{j<m} #{joints at V_th after step j + 1}
-        hot = 1.0 - (1.0 - v)[:, :, None] * rows[:, p:2 * p] >= model.v_th[:, None]
-        hot = np.einsum("npm->nm", hot.view(np.uint8))  # at most p: no overflow
-        total[:, 1:] += model.cost.gamma * np.cumsum(hot[:, :-1], axis=1)
-        if model.takt_weight:
-            end = t[:, None] + rows[:, 2 * p + 1]
-            total += model.takt_weight * (np.maximum(0.0, end - model.takt)
-                                          - np.maximum(0.0, t - model.takt)[:, None])
+        # the worker's V after its (m + 1)-th step (without rest), 1 − (1 − V)·Π α, grows with m: Γ for each
+        # joint from the step it reaches V_th, where Π α <= (1 − V_th)/(1 − V); Σ_{j<m} #{joints there
+        # after step j + 1}
+        with np.errstate(divide="ignore"):  # V = 1: every step is at V_th
+            reach = (1.0 - model.v_th) / (1.0 - v)
+        hot = np.einsum("npm->nm", (rows[:, p:2 * p] <= reach[:, :, None]).view(np.uint8))  # <= p: fits
+        total += hot @ self.later[:top, :top]
+        if model.takt_weight:  # the seconds the completion adds past the takt
+            late = np.add(t[:, None], rows[:, 2 * p + 1])
+            np.maximum(late, model.takt, out=late)
+            late -= np.maximum(t, model.takt)[:, None]
+            late *= model.takt_weight
+            total += late
         return total.min(axis=1)
 
 
@@ -129,7 +136,7 @@ def pilot_table(pricing) -> PilotTable:
     model = pricing.model
     for arr in (pricing.alpha, pricing.max_rest, pricing.robot_min, pricing.duration[:, pricing.human],
                 pricing.robot_duration, pricing.human_ok,
-                np.array([pricing.k, model.next_weight, model.time_weight])):
+                np.array([pricing.k, model.next_weight, model.time_weight, model.cost.gamma])):
         digest.update(np.ascontiguousarray(arr).tobytes())
     tables = pricing.view.pilots
     key = digest.digest()
