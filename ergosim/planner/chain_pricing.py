@@ -159,7 +159,7 @@ class Pricing(ABC):
         start] (n,)."""
         m = self.model
         over = m.takt_weight * (np.maximum(0.0, t1 - m.takt) - np.maximum(0.0, t0 - m.takt))
-        return over + m.time_weight * (t1 - t0)
+        return over + m.time_weight * (t1 - t0) if m.time_weight else over  # t1 >= t0: the same bits
 
     # the interface of a pricing: start, step, estimate, dominance
     @abstractmethod
