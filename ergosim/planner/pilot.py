@@ -112,10 +112,10 @@ class PilotTable:
         model = pr.model
         total = rows[:, 2 * p] + (v[:, None, :] @ rows[:, :p])[:, 0]
         # the worker's V after its (m + 1)-th step (without rest), 1 − (1 − V)·Π α, grows with m: Γ for each
-        # joint from the step it reaches V_th, where Π α <= (1 − V_th)/(1 − V); Σ_{j<m} #{joints there
-        # after step j + 1}
-        with np.errstate(divide="ignore"):  # V = 1: every step is at V_th
-            reach = (1.0 - model.v_th) / (1.0 - v)
+        # joint from the step it reaches V_th, where Π α <= (1 − V_th)/(1 − V) (from the start at V = 1);
+        # Σ_{j<m} #{joints there after step j + 1}
+        w = 1.0 - v
+        reach = np.divide(1.0 - model.v_th, w, out=np.full_like(w, np.inf), where=w > 0)
         hot = np.einsum("npm->nm", (rows[:, p:2 * p] <= reach[:, :, None]).view(np.uint8))  # <= p: fits
         total += hot @ self.later[:top, :top]
         if model.takt_weight:  # the seconds the completion adds past the takt
