@@ -171,7 +171,7 @@ def run(scenario: Scenario | str | os.PathLike[str], *, seed: int = 0,
     else:
         with tempfile.TemporaryDirectory(prefix="ergosim-") as tmp:
             res = run_scenario(scenario, seed=seed, out=Path(tmp) / scenario.name, jobs=jobs,
-                               progress=progress)
+                               progress=progress, plots=False)  # nobody would see them
         where = None
     return Results(scenario.name, seed, res.status, res.summary, tuple(res.results), where, res.wall)
 

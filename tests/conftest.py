@@ -17,16 +17,42 @@ from pathlib import Path
 from typing import NamedTuple
 
 import pytest
+from hypothesis import settings
 
 from ergosim.cli import headless_gl, main
 
 headless_gl()
 
+# CI draws the same hypothesis examples on every run (derandomize: the examples follow from each test's
+# name), so a CI run is repeatable and its time too; a developer's run explores new ones
+settings.register_profile("ci", derandomize=True)
+if os.environ.get("CI"):
+    settings.load_profile("ci")
+
+
+RUN_FIXTURES = frozenset({
+    "kv_run", "kv_two_subjects", "forced_run",  # below, shared by several files
+    "local",  # test_sweep_run.py
+    "run_dir",  # test_plots.py
+    "shards",  # test_run_merge.py
+    "parallel_ms", "parallel_gearbox", "negotiating",  # test_team_session.py
+    "hrc_run",  # test_twin_loop.py
+    "recorded",  # test_video.py
+    "reba_run",  # test_reba_run.py
+    "bracket",  # test_action_kinds.py
+})
+"""Fixtures that run a scenario (seconds each): a test that reads one is ``slow``, so the quick tier
+(``-m "not slow"``) never waits for a run."""
+
 
 def pytest_collection_modifyitems(items) -> None:
-    """Files that hold slow tests first, each file's tests in their order: pytest-xdist then starts the long
-    files early and the many short ones fill the workers' last minutes (``--no-loadscope-reorder`` in
-    pyproject.toml keeps this order; xdist's own puts the files with the most tests first)."""
+    """Tests that read a scenario run (:data:`RUN_FIXTURES`) are marked ``slow``. Files that hold slow tests
+    come first, each file's tests in their order: pytest-xdist then starts the long files early and the many
+    short ones fill the workers' last minutes (``--no-loadscope-reorder`` in pyproject.toml keeps this
+    order; xdist's own puts the files with the most tests first)."""
+    for item in items:
+        if RUN_FIXTURES & set(getattr(item, "fixturenames", ())):
+            item.add_marker(pytest.mark.slow)
     slow = {item.path for item in items if item.get_closest_marker("slow")}
     items.sort(key=lambda item: item.path not in slow)
 

@@ -64,6 +64,7 @@ def test_the_vocabulary_is_registered_in_one_place():
     assert ACTION_KINDS["remove"].assembly and not ACTION_KINDS["place"].assembly
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("agent", ["human", "robot"])
 def test_every_kind_completes_by_its_own_check(agent, by_worker, by_robot):
     run = by_worker if agent == "human" else by_robot

@@ -51,6 +51,7 @@ def results(tmp_path_factory):
     return api.run(api.load(write_product(folder, scenario=QUICK), subjects=2), seed=3, jobs=1)
 
 
+@pytest.mark.slow
 def test_run_returns_the_summary_and_the_records_as_objects(results):
     assert results.status == "complete" and results.seed == 3 and results.out is None  # no folder kept
     assert results.summary["scenario"] == "bracket" and results.summary["complete"]
@@ -116,6 +117,7 @@ def _script(tmp_path, code: str) -> subprocess.CompletedProcess:
                           cwd=tmp_path, check=False)
 
 
+@pytest.mark.slow
 def test_the_guide_example_runs_as_a_script_with_two_jobs(tmp_path):
     code = _guide_example() + '    print("share", res.robot_share("hrc"))\n'
     proc = _script(tmp_path, code)
@@ -123,6 +125,7 @@ def test_the_guide_example_runs_as_a_script_with_two_jobs(tmp_path):
     assert "share " in proc.stdout and "BrokenProcessPool" not in proc.stderr
 
 
+@pytest.mark.slow
 def test_a_parallel_run_at_a_scripts_top_level_is_refused_before_any_worker_starts(tmp_path):
     """Without the guard the workers re-ran the script and the caller got BrokenProcessPool."""
     lines = _guide_example().splitlines()

@@ -12,6 +12,8 @@ import ast
 import functools
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGE = ROOT / "ergosim"
 
@@ -24,8 +26,8 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("human", "ergonomics", "robot", "worker", "planner", "scenes"),
     # 2 the simulation: loop, sessions, allocators, tracks
     ("twin",),
-    # 3 pictures of the simulation: rerun recordings, video
-    ("viz", "video"),
+    # 3 pictures of the simulation: rerun recordings, video, the colours the figures share with them
+    ("viz", "video", "colors"),
     # 4 the experiment around the simulation: scenarios, runs, outputs, merge, summaries
     ("experiment",),
     # 5 studies made of experiments
@@ -98,12 +100,14 @@ def _layer(package: str) -> int:
 
 
 # -- the import layers ---------------------------------------------------------------------------------------
+@pytest.mark.slow
 def test_every_package_has_a_layer():
     packages = {_package_of(rel) for rel in _modules()}
     missing = sorted(p for p in packages if not any(p in layer for layer in LAYERS))
     assert missing == [], f"add these to a layer in LAYERS (and docs/architecture.md): {missing}"
 
 
+@pytest.mark.slow
 def test_the_simulation_never_imports_the_experiment_video_or_viz():
     found = [f"{rel}:{line} imports ergosim.{pkg}" for rel, tree in _modules().items()
              if _package_of(rel) in SIMULATION

@@ -106,6 +106,7 @@ def stress_recording():
     return parse_bvh_text(format_bvh(joints, 1 / 60, motion), "stress.bvh")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("reference", ["vertical", "pelvis"])
 def test_a_sample_of_frames_maps_to_the_bits_of_the_whole_mapping(stress_recording, reference):
     data = stress_recording

@@ -133,13 +133,14 @@ def test_an_agent_with_no_body_in_the_cell(capsys, tmp_path, agents, needle):
                                                             "['robot']"))
 
 
+@pytest.mark.slow
 def test_a_part_the_gripper_cannot_take_is_refused_for_the_robot(capsys, tmp_path):
     """b1 is the worker's or the robot's: the robot is refused it before the physics, in one line, and the
     worker does it; left to the robot alone, the run is refused."""
     cell = CELL.replace("size = [0.06, 0.06, 0.04]", "size = [0.06, 0.10, 0.04]")
     out = tmp_path / "out"
     code = main(["run", _own(tmp_path, cell=cell), "--subjects", "1", "--reps", "1", "--jobs", "1", "--quiet",
-                 "--mode", "r-only", "--out", str(out)])
+                 "--no-plots", "--mode", "r-only", "--out", str(out)])
     stdout = capsys.readouterr().out
     assert code == 0
     assert "panda cannot do b1: base is 100 mm wide and the gripper opens 80 mm; the human does it" in stdout

@@ -5,7 +5,10 @@ from __future__ import annotations
 import subprocess
 import sys
 
+import pytest
 
+
+@pytest.mark.slow
 def test_a_closed_stdout_ends_quietly():
     """`ergosim plan ... | head` closing the pipe early is not an error worth a traceback."""
     proc = subprocess.Popen(
@@ -19,6 +22,7 @@ def test_a_closed_stdout_ends_quietly():
     assert "Traceback" not in err and "BrokenPipe" not in err, err
 
 
+@pytest.mark.slow
 def test_unknown_command_is_a_usage_error():
     proc = subprocess.run([sys.executable, "-m", "ergosim.cli", "frobnicate"], check=False,
                           capture_output=True, text=True)

@@ -53,10 +53,12 @@ def test_the_new_mode_runs_end_to_end_in_worker_processes(tmp_path, capsys):
         text = reason_text(d)
         assert text.startswith(f"{d.action} → {d.agent}: peak predicted KWear {peak:.2f}"), text
     assert main(["run", "kwear-validation", "--mode", "peak", "--reps", "1", "--jobs", "1", "--quiet",
+                 "--no-plots",
                  "--set", "eta_max=2", "--out", str(tmp_path / "cli")]) == 0  # --mode offers it too
     capsys.readouterr()
 
 
+@pytest.mark.slow
 def test_a_registered_scenario_is_listed_and_runs_by_name(tmp_path, capsys):
     path = write_product(tmp_path / "own", scenario=_scenario())
     api.register_scenario("my-bracket", path)
@@ -66,7 +68,7 @@ def test_a_registered_scenario_is_listed_and_runs_by_name(tmp_path, capsys):
         line = next(x for x in listed.splitlines() if x.startswith("my-bracket"))
         assert "1 × 1, h-only, r-only" in line and "The bracket in its cell" in line
         out = tmp_path / "out"
-        assert main(["run", "my-bracket", "--jobs", "1", "--quiet", "--out", str(out)]) == 0
+        assert main(["run", "my-bracket", "--jobs", "1", "--quiet", "--no-plots", "--out", str(out)]) == 0
         summary = json.loads((out / "summary.json").read_text())
         assert summary["scenario"] == "bracket" and summary["complete"]
         assert summary["modes"]["r-only"]["robot_share"] == 1.0

@@ -25,6 +25,7 @@ def scenario():
     return api.load("multi-subject", {"repetitions": "2", "subjects": "1"})
 
 
+@pytest.mark.slow
 def test_registered_and_passes_the_env_checker(scenario):
     env = gym.make(ENV_ID, scenario=scenario, repetitions=1)
     assert isinstance(env.unwrapped, AllocationEnv)
@@ -32,6 +33,7 @@ def test_registered_and_passes_the_env_checker(scenario):
     assert ergosim.gym.__all__ and all(hasattr(ergosim.gym, name) for name in ergosim.gym.__all__)
 
 
+@pytest.mark.slow
 def test_steps_are_deterministic_for_a_seed(scenario):
     runs = []
     for _ in range(2):
@@ -53,12 +55,27 @@ def test_steps_are_deterministic_for_a_seed(scenario):
             assert a == b
 
 
+@pytest.fixture(scope="module")
+def replayed(scenario):
+    """mode -> (the env after an episode of that mode's own decisions, seed 5, 2 repetitions; the episode);
+    made once per mode for the tests below."""
+    made = {}
+
+    def episode(mode: str):
+        if mode not in made:
+            env = AllocationEnv(scenario, mode=mode, repetitions=2)
+            made[mode] = env, evaluate(env, mode_policy, seed=5)
+        return made[mode]
+
+    return episode
+
+
+@pytest.mark.slow
 @pytest.mark.parametrize("mode", ["hrc", "kwear-lookahead"])
-def test_a_mode_replayed_through_the_env_is_its_run(scenario, mode):
+def test_a_mode_replayed_through_the_env_is_its_run(scenario, replayed, mode):
     """The paper's rule (and the look-ahead) deciding through the env: the allocations, the KWear of every
     tick and the rewards' integral are those of ``ergosim run`` (run_subject) for the same seed."""
-    env = AllocationEnv(scenario, mode=mode, repetitions=2)
-    episode = evaluate(env, mode_policy, seed=5)
+    env, episode = replayed(mode)
     ran = run_subject(scenario, 0, 5, (mode,)).runs[mode]
     got = env.result
     rows = [dataclasses.astuple(a) for a in got.allocations]
@@ -68,19 +85,20 @@ def test_a_mode_replayed_through_the_env_is_its_run(scenario, mode):
     assert episode.steps == sum(a.status != "pruned" for a in ran.allocations)
 
 
-def test_the_papers_rule_through_the_env_writes_the_allocations_of_ergosim_run(scenario, tmp_path):
+@pytest.mark.slow
+def test_the_papers_rule_through_the_env_writes_the_allocations_of_ergosim_run(replayed, tmp_path):
     """``ergosim run`` itself (the CLI, in this process) against the paper's rule replayed through the env:
     the same allocations.csv, byte for byte."""
     out = tmp_path / "run"
     assert main(["run", "multi-subject", "--subjects", "1", "--reps", "2", "--mode", "hrc", "--seed", "5",
-                 "--jobs", "1", "--quiet", "--out", str(out)]) == 0
-    env = AllocationEnv(scenario, mode="hrc", repetitions=2)
-    evaluate(env, mode_policy, seed=5)
+                 "--jobs", "1", "--quiet", "--no-plots", "--out", str(out)]) == 0
+    env, _ = replayed("hrc")
     write_allocations(tmp_path / "env.csv", env.result.allocations)
     cli = (out / "allocations.csv").read_text()
     assert len(cli.splitlines()) > 8 and (tmp_path / "env.csv").read_text() == cli
 
 
+@pytest.mark.slow
 def test_masked_choice_changes_nothing_and_the_episode_ends(scenario):
     env = AllocationEnv(scenario, repetitions=1, invalid_penalty=2.0)
     obs, info = env.reset(seed=0)

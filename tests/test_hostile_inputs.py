@@ -64,6 +64,7 @@ def _valid_outputs(out: Path) -> dict:
 
 
 # -- 1. hangs: a recorder that cannot deliver, a viewer that cannot open -------------------------------------
+@pytest.mark.slow
 def test_connect_to_a_dead_port_fails_after_a_bounded_flush_with_the_results_written(tmp_path, capsys,
                                                                                     monkeypatch):
     """In-process, with the flush bound cut from its default to 2 s: the run waits that long, no longer."""
@@ -142,6 +143,7 @@ pose it would be handed over at). Presented at J's hollows instead (the cell's d
 its hollow both lie within its reach sphere, and the robot tries a3."""
 
 
+@pytest.mark.slow
 def test_failed_robot_attempts_do_not_count_as_robot_actions(tmp_path, monkeypatch):
     """The same cell run from Python, past the CLI's pre-check and with the robot's contract not asked (its
     refusals would take every action from it before the physics): r-only sends the robot every action it
@@ -170,6 +172,7 @@ def test_failed_robot_attempts_do_not_count_as_robot_actions(tmp_path, monkeypat
 
 
 # -- 4. impossible runs: exit 3, complete false, abandoned repetitions named --------------------------
+@pytest.mark.slow
 def test_a_run_with_an_abandoned_repetition_exits_3_and_says_why(tmp_path, capsys):
     out = tmp_path / "l"
     # the shortest worker of the shelf study (seed 3, 1.50 m) and J on a 1.60 m ledge: the check before any
@@ -475,6 +478,7 @@ def _signal_during(monkeypatch, module, name: str, signum: int) -> None:
     monkeypatch.setattr(module, name, then_signal)
 
 
+@pytest.mark.slow
 def test_a_signal_while_a_finished_run_is_written_leaves_it_interrupted(tmp_path, capsys, monkeypatch):
     """Ctrl-C while the plots of a run whose subjects all finished are drawn: the files are written whole,
     summary.json and run.json say interrupted (the CLI exits 130), not "running"."""
@@ -493,6 +497,7 @@ def test_a_signal_while_a_finished_run_is_written_leaves_it_interrupted(tmp_path
     assert "ticks.csv" in run["files"] and "kwear_timeline_hrc.png" in run["files"]
 
 
+@pytest.mark.slow
 def test_a_signal_while_a_finished_sweep_is_written_leaves_it_interrupted(tmp_path, capsys, monkeypatch):
     from ergosim.sweep import runner  # noqa: PLC0415
 
@@ -509,6 +514,7 @@ def test_a_signal_while_a_finished_sweep_is_written_leaves_it_interrupted(tmp_pa
     assert "while the results were written" in manifest["reason"]
 
 
+@pytest.mark.slow
 def test_a_disk_that_fills_while_the_results_are_written_is_one_line(tmp_path, capsys, monkeypatch):
     """ticks.csv cannot be written (ENOSPC): one line, exit 2, and run.json and summary.json say failed
     (a traceback at HEAD, with both saying "running")."""
@@ -605,6 +611,7 @@ def fifo(tmp_path):
     return path
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("command", ["replay", "plan"])
 def test_dev_zero_and_a_fifo_are_refused_not_read(command, fifo):
     for path in ("/dev/zero", str(fifo)):
@@ -707,6 +714,7 @@ def test_an_output_name_blocked_by_a_directory_is_refused_before_the_run(tmp_pat
 
 
 # -- one run at a time in a folder -------------------------------------------------------------------------
+@pytest.mark.slow
 def test_a_second_run_into_a_folder_in_use_is_refused(tmp_path, capsys):
     out = tmp_path / "o"
     first = RunFolder(out, scenario="kwear-validation", seed=0)
@@ -720,6 +728,7 @@ def test_a_second_run_into_a_folder_in_use_is_refused(tmp_path, capsys):
     assert main([*KV, "--out", str(out)]) == 0  # free again once the first has ended
 
 
+@pytest.mark.slow
 def test_two_concurrent_processes_into_one_folder(tmp_path):
     """A long first run holds the folder; a second process is refused (at HEAD both exited 0 and the folder
     mixed their files); the first is then stopped with Ctrl-C and its outputs are its own."""
@@ -776,6 +785,7 @@ def test_a_fastening_held_for_1e308_s_is_refused(capsys, tmp_path):
                              "actions.g6.turn_time: a fasten action needs turn_time in (0, 600] s")
 
 
+@pytest.mark.slow
 def test_ctrl_c_stops_a_run_at_the_finest_physics_step(tmp_path):
     """physics_dt at its bound (10 kHz): every long loop still answers SIGINT within seconds."""
     out = tmp_path / "o"
@@ -794,6 +804,7 @@ def test_ctrl_c_stops_a_run_at_the_finest_physics_step(tmp_path):
 
 
 # -- sweeps: sizes checked from the file's counts, before anything is made ----------------------------------
+@pytest.mark.slow
 @pytest.mark.parametrize("body,needle", [
     ('[grid]\ntakt = [' + ",".join(f"{30 + k / 1e4}" for k in range(1000)) + ']\n'
      'robot_cost = [' + ",".join(f"{1 + k / 1e3}" for k in range(1000)) + ']\n',
@@ -812,6 +823,7 @@ def test_huge_sweeps_are_refused_from_their_counts(tmp_path, body, needle):
     assert "Traceback" not in proc.stderr and proc.stderr.count("\n") == 1
 
 
+@pytest.mark.slow
 def test_ray_pointed_at_nothing_is_refused_without_a_running_manifest(tmp_path):
     path = tmp_path / "s.toml"
     path.write_text('scenario = "kwear-validation"\nmodes = ["hrc"]\n[set]\nrepetitions = 1\neta_max = 2\n')
@@ -901,6 +913,7 @@ def test_the_task_is_labelled_by_its_name(tmp_path):
     assert load_scenario(ROOT / "examples" / "own_workcell" / "bracket.toml").protocol.task == "bracket"
 
 
+@pytest.mark.slow
 def test_a_warning_is_one_line_in_the_progress_bar(tmp_path):
     proc = _cli([*KV, "--set", "robot_cost=1000", "--out", str(tmp_path / "o")], timeout=300)
     lines = [x for x in proc.stderr.splitlines() if "warning" in x]

@@ -22,6 +22,7 @@ from ergosim.planner.benchmark_lookahead import (
 from ergosim.planner.planner_revision import planner_at
 
 
+@pytest.mark.slow
 def test_quick_rows_and_the_target_row():
     rows = run_lookahead_benchmark(quick=True)
     assert [(r.task, r.agents, r.execution) for r in rows] == list(LOOKAHEAD_CASES[:3])
@@ -41,7 +42,7 @@ def test_beam_quality_against_the_exact_search():
     assert q[6]["mean_excess_pct"] <= q[1]["mean_excess_pct"] + 1e-9
 
 
-def test_a_baseline_revision_runs_beside_and_its_plans_are_compared():
+def test_a_baseline_revision_loads_plans_and_is_compared():
     head = planner_at("HEAD")
     assert head.lookahead_plan is not CURRENT.lookahead_plan
     rng = np.random.default_rng(3)
@@ -52,9 +53,14 @@ def test_a_baseline_revision_runs_beside_and_its_plans_are_compared():
     assert theirs.cost > 0 and len(theirs.steps) == len(ours.steps) == 7
     out = time_decisions(graph, rng, "sequential", 3, baseline=CURRENT)
     assert out["same"] is True and out["base_cpu"] > 0 and out["cpu"] > 0
+    assert time_decisions(graph, rng, "sequential", 1)["same"] is None
+    with pytest.raises(ConfigError, match="no-such-revision"):
+        planner_at("no-such-revision")
+
+
+@pytest.mark.slow
+def test_the_rows_carry_the_baseline():
     rows = run_lookahead_benchmark(quick=True, repeats=2, baseline=CURRENT)
     assert all(r.same for r in rows) and "cpu_ratio" in format_lookahead_rows(rows)
     assert all("base_cpu_ms" in r for r in lookahead_rows_json(rows))
     assert "base_cpu_ms" not in lookahead_rows_json(run_lookahead_benchmark(quick=True, repeats=1))[0]
-    with pytest.raises(ConfigError, match="no-such-revision"):
-        planner_at("no-such-revision")

@@ -60,6 +60,7 @@ def multi():
     return api.load("multi-subject", {"repetitions": "3", "subjects": "1", "modes": "kwear-lookahead,hrc"})
 
 
+@pytest.mark.slow
 def test_a_run_decides_by_sequences_and_is_paired_with_the_papers_rule(multi, tmp_path):
     res = api.run(multi, seed=0, jobs=1, out=tmp_path / "out")
     run = res.subjects[0].runs["kwear-lookahead"]
@@ -87,6 +88,7 @@ def test_the_papers_outputs_do_not_record_the_lookahead_fields():
     assert set(LOOKAHEAD_FIELDS) <= set(api.load("gearbox", {"modes": "kwear-lookahead"}).protocol.record())
 
 
+@pytest.mark.slow
 def test_settings_and_observed_durations(multi):
     session = subject_session(multi, 0, 0, "kwear-lookahead")
     alloc = session.allocator
@@ -112,6 +114,7 @@ def test_settings_and_observed_durations(multi):
     assert alloc.model.duration[model.action_index["a1"], model.agent_index["human"]] == pytest.approx(5.0)
 
 
+@pytest.mark.slow
 def test_team_state_from_the_session_jobs(multi):
     alloc = subject_session(multi, 0, 0, "kwear-lookahead").allocator
     board = TeamBoard(alloc.graph, {("a2", "robot"): "L"})
@@ -128,6 +131,7 @@ def test_team_state_from_the_session_jobs(multi):
     assert state.free["robot"] == pytest.approx(max(2.0, -2.0 + model.rest[model.action_index["a2"], 1]))
 
 
+@pytest.mark.slow
 def test_parallel_first_decisions_do_not_hand_the_robot_what_the_worker_does_far_faster():
     """The issue's gearbox case: in parallel the paper's team rule gives the idle robot g3 at t = 0 (18.6 s
     for what the worker does in 4.4 s) and the worker waits 12 s for it. The look-ahead prices the

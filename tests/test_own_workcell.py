@@ -18,6 +18,7 @@ from ergosim.errors import ConfigError
 from ergosim.experiment.scenario import load_scenario
 
 
+@pytest.mark.slow
 def test_a_scenario_with_its_own_task_and_workcell_files_runs_end_to_end(tmp_path, capsys):
     scenario = write_product(tmp_path / "mine")
     out = tmp_path / "out"
@@ -39,6 +40,7 @@ def test_a_scenario_with_its_own_task_and_workcell_files_runs_end_to_end(tmp_pat
         assert (out / name).stat().st_size > 0, name
 
 
+@pytest.mark.slow
 def test_a_scenario_with_inline_task_and_workcell_tables(tmp_path, capsys):
     """One file holds it all: ``[task]`` and ``[workcell]`` tables instead of file names."""
     lines = ['name = "inline"', 'description = "all in one file"', "", "[protocol]",

@@ -115,6 +115,7 @@ def test_scarce_built_directly_equals_the_liaison_generator():
             (o.name, o.action, o.father, o.children) for o in reference]
 
 
+@pytest.mark.slow
 def test_splits_of_a_long_chain_need_no_recursion():
     """A chain of 3000 parts: its root has 2999 splits, found 3000 levels deep (RecursionError at HEAD)."""
     n = 3000

@@ -140,12 +140,14 @@ def _check(graph, data):
         assert beam.cost - beam.gap <= best + 1e-9 * max(1.0, best)
 
 
+@pytest.mark.slow
 @SETTINGS
 @given(st.data())
 def test_exact_search_matches_brute_force_on_random_graphs(data):
     _check(data.draw(explicit_graphs()), data)
 
 
+@pytest.mark.slow
 @SETTINGS
 @given(st.data())
 def test_exact_search_matches_brute_force_on_random_liaison_graphs(data):
@@ -321,6 +323,7 @@ def _team_brute_force(graph, model, team, done, pruned):
     return best
 
 
+@pytest.mark.slow
 @SETTINGS
 @given(st.data())
 def test_team_search_matches_brute_force_on_random_liaison_graphs(data):

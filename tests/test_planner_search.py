@@ -81,6 +81,7 @@ def compare(graph, done, costs, pruned):
         assert frozenset((s.operation, s.agent) for s in plan.steps) in {t for _, t in plans}
 
 
+@pytest.mark.slow
 @SETTINGS
 @given(st.data())
 def test_planners_match_brute_force_on_random_graphs(data):
@@ -88,6 +89,7 @@ def test_planners_match_brute_force_on_random_graphs(data):
     compare(graph, *data.draw(calls(graph)))
 
 
+@pytest.mark.slow
 @SETTINGS
 @given(st.data())
 def test_planners_match_brute_force_on_random_liaison_graphs(data):
@@ -95,6 +97,7 @@ def test_planners_match_brute_force_on_random_liaison_graphs(data):
     compare(graph, *data.draw(calls(graph)))
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("spec", ["sequential:7", "scarce:7"])
 @pytest.mark.parametrize("agents", [1, 3])
 def test_planners_agree_on_generated_tasks(spec, agents):

@@ -47,6 +47,7 @@ def _by_gid(fig) -> dict:
     return {a.get_gid(): a for ax in fig.axes for a in ax.get_children() if a.get_gid()}
 
 
+@pytest.mark.slow
 def test_run_writes_every_figure_and_the_csvs_they_come_from(run_dir):
     names = {p.name for p in run_dir.iterdir()}
     assert {"subjects.csv", "kwear_actions.csv", "kwear_timeline_hrc.png", "kwear_timeline_h-only.png",
@@ -134,6 +135,7 @@ def test_histogram_bars_and_counts_equal_allocations_csv(run_dir):
     assert [t.get_text() for t in fig.axes[0].get_legend().get_texts()] == ["hrc"]
 
 
+@pytest.mark.slow
 def test_plots_are_drawn_from_the_files_and_redrawn_for_chosen_subjects(run_dir, tmp_path, capsys):
     copy = tmp_path / "copy"
     shutil.copytree(run_dir, copy)
@@ -158,6 +160,23 @@ def test_plots_are_drawn_from_the_files_and_redrawn_for_chosen_subjects(run_dir,
     assert main(["plot", str(copy), "--plot-subject", "5"]) == 2
     assert "--plot-subject: no subject 5" in capsys.readouterr().err
     assert main(["plot", str(tmp_path / "none")]) == 2
+
+
+def test_no_plots_writes_the_same_files_and_plot_draws_the_figures_later(kv_run, tmp_path, capsys):
+    """``ergosim run --no-plots`` (a faster run) writes every file but the PNGs; ``ergosim plot`` then draws
+    the figures a run with plots writes, byte for byte. Against the shared kwear-validation run
+    (tests/conftest.py), made with the same arguments and plots (its recording changes no output)."""
+    out = tmp_path / "out"
+    assert main(["run", "kwear-validation", "--reps", "1", "--mode", "hrc", "--jobs", "1", "--quiet",
+                 "--no-plots", "--out", str(out)]) == 0
+    assert "kwear_state_*.json)" in capsys.readouterr().out  # the results line lists no *.png
+    pngs = sorted(p.name for p in kv_run.out.glob("*.png"))
+    assert len(pngs) >= 3 and not list(out.glob("*.png"))
+    for name in ("summary.json", "ticks.csv", "allocations.csv", "kwear_actions.csv", "subjects.csv"):
+        assert (out / name).read_bytes() == (kv_run.out / name).read_bytes(), name
+    assert main(["plot", str(out)]) == 0
+    assert sorted(p.name for p in out.glob("*.png")) == pngs
+    assert [n for n in pngs if (out / n).read_bytes() != (kv_run.out / n).read_bytes()] == []
 
 
 def test_run_plot_subject_chooses_the_panels(kv_two_subjects):

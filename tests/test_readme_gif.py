@@ -28,6 +28,7 @@ def test_the_readme_shows_the_gif_near_the_top_and_explains_the_overlay():
     assert "## What you will see" in readme and "V_th" in readme.split("## What you will see")[1][:3000]
 
 
+@pytest.mark.slow
 def test_the_committed_gif_is_the_scripts_output_for_todays_simulation():
     doc = json.loads(GIF.with_suffix(".json").read_text())
     data = GIF.read_bytes()

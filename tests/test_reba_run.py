@@ -36,6 +36,7 @@ def _ticks(out):
     return rows[0], rows[1:]
 
 
+@pytest.mark.slow
 def test_ticks_gain_the_reba_columns_and_kwear_legs(reba_run):
     _, _, out = reba_run
     header, rows = _ticks(out)
@@ -86,6 +87,7 @@ def test_summary_has_reba_figures(reba_run):
         assert "REBA G=" in reason_text(d)
 
 
+@pytest.mark.slow
 def test_the_static_reba_baseline_sends_actions_over_its_threshold_to_the_robot(tmp_path):
     sc = api.load("multi-subject", modes=["reba"], subjects=1, repetitions=1, eta_max=2, reba_threshold=1)
     res = api.run(sc, out=tmp_path / "low")
@@ -93,6 +95,7 @@ def test_the_static_reba_baseline_sends_actions_over_its_threshold_to_the_robot(
     assert robot == ["a1", "a2", "a3", "a4"]  # REBA G >= 1 always; a5 is the worker's alone
 
 
+@pytest.mark.slow
 def test_without_a_reba_index_ticks_stay_as_they_were(tmp_path):
     out = tmp_path / "plain"
     api.run(api.load("multi-subject", modes=["h-only"], subjects=1, repetitions=1, eta_max=2), out=out)
@@ -119,6 +122,7 @@ class TrunkAngleIndex(RiskIndex):
         return np.array([self._v[0] / 90.0])
 
 
+@pytest.mark.slow
 def test_an_index_on_joint_angles_reads_the_angles(tmp_path):
     register_risk_index(RiskIndexEntry(
         "trunk-angle", lambda ctx: (TrunkAngleIndex(), CostParams(gamma=1.5, v_th=0.9, robot_cost=2.0,

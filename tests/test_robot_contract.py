@@ -61,6 +61,7 @@ def _names_and_strings(tree: ast.AST):
             yield node.lineno, node.value
 
 
+@pytest.mark.slow
 def test_no_panda_specific_name_outside_the_pandas_module():
     """Every robot comes through the contract: no identifier or string of the package and its scripts names
     the Panda outside ergosim/robot/panda*.py (its record), but for the import in ergosim/robot/__init__.py
@@ -78,6 +79,7 @@ def test_no_panda_specific_name_outside_the_pandas_module():
     assert not hits, "\n".join(hits)
 
 
+@pytest.mark.slow
 def test_a_handover_pose_at_the_workers_neck_is_refused_for_the_robot(capsys, tmp_path):
     """The hand-over clearance rule: the multi-subject hand-overs, each presented at its own target (issue
     23) where the plan has them, keep the Panda 0.32-0.46 m from the worker's head and neck (ISO/TS 15066
@@ -100,6 +102,7 @@ def test_a_handover_pose_at_the_workers_neck_is_refused_for_the_robot(capsys, tm
     assert all("from the worker's head or neck (at least 0.2 m)" in why for why in refused.values())
     sets = [x for k, v in at_pose.items() for x in ("--set", f"{k}={v}")]
     code = main(["run", "multi-subject", "--subjects", "1", "--reps", "1", "--mode", "r-only", "--quiet",
+                 "--no-plots",
                  *sets, "--set", "scene.targets.handover.pos=0.25,0.3,1.45", "--out", str(tmp_path / "o")])
     out = capsys.readouterr().out
     assert code == 0 and out.count("holding") == 4 and "the human does it" in out

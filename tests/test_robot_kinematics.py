@@ -75,6 +75,7 @@ def test_jacobian_matches_mujoco(robot, kin, plant):
     np.testing.assert_allclose(kin.jacobian(q), np.vstack([jp, jr])[:, :n], atol=1e-9)
 
 
+@pytest.mark.slow
 def test_ik_reaches_random_reachable_targets(kin):
     rng = np.random.default_rng(3)
     for _ in range(40):

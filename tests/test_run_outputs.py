@@ -32,6 +32,7 @@ def _rows(path: Path) -> list[dict]:
         return list(csv.DictReader(f))
 
 
+@pytest.mark.slow
 def test_forced_robot_actions_count_in_the_robot_share(forced_run):
     """The worker cannot reach L, its a2 attempt fails and the robot does a2 in every repetition: the old
     robot share said 0 % (0/8); every completed a2 is the robot's."""

@@ -20,7 +20,8 @@ MOVED_HOST = {"scene.parts.housing.xy": "0.32,-0.45", "scene.robots.robot.base":
 
 
 def _refused(capsys, tmp_path, overrides: dict[str, str], *needles: str) -> str:
-    args = ["run", "gearbox", "--subjects", "1", "--reps", "1", "--quiet", "--out", str(tmp_path / "o")]
+    args = ["run", "gearbox", "--subjects", "1", "--reps", "1", "--quiet",
+            "--no-plots", "--out", str(tmp_path / "o")]
     for key, value in overrides.items():
         args += ["--set", f"{key}={value}"]
     code = main(args)

@@ -325,6 +325,7 @@ def test_bad_zip_names_are_one_line_errors(tmp_path, capsys, change, needle):
     assert needle in err and err.count("\n") == 1 and "s.toml: zip" in err
 
 
+@pytest.mark.slow
 def test_the_zip_is_one_axis_of_the_plots_and_the_heat_map_is_full(tmp_path):
     """At HEAD the zip's keys were separate axes: three response plots (two identical) and a heat map of
     l_xy × s1_xy with only its diagonal filled. Now: one response plot per factor, one full heat map."""

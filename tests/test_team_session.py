@@ -21,7 +21,7 @@ from ergosim.viz.paths import ALLOCATION_LOG
 
 
 def _run(out, scenario, *args):
-    code = main(["run", scenario, "--subjects", "1", "--quiet", "--seed", "0", "--jobs", "1",
+    code = main(["run", scenario, "--subjects", "1", "--quiet", "--no-plots", "--seed", "0", "--jobs", "1",
                  "--out", str(out), *args])
     assert code == 0
     rows = list(csv.DictReader((out / "allocations.csv").open()))
@@ -62,6 +62,7 @@ def _overlap(a, b) -> bool:
     return min(float(a["t_end"]), float(b["t_end"])) > max(float(a["t_start"]), float(b["t_start"])) + 1e-6
 
 
+@pytest.mark.slow
 def test_parallel_multi_subject_overlaps_the_robot_and_the_worker(parallel_ms):
     summary, team, rows = parallel_ms
     m = team["modes"]["hrc"]
@@ -92,6 +93,7 @@ def test_parallel_runs_are_monitored_and_end_apart(parallel_ms):
     assert safety["params"]["reaction_time"] == 0.1
 
 
+@pytest.mark.slow
 def test_gearbox_builds_both_sub_assemblies_at_once(parallel_gearbox):
     summary, team, rows, rrd = parallel_gearbox
     for rep in ("1", "2"):
@@ -107,6 +109,7 @@ def test_gearbox_builds_both_sub_assemblies_at_once(parallel_gearbox):
     assert any("g3 → robot" in s for s in lines) and any("g1 → human" in s for s in lines)
 
 
+@pytest.mark.slow
 def test_negotiation_refuses_high_wear_actions_and_still_completes(negotiating):
     summary, team, rows = negotiating
     m = team["modes"]["hrc"]
@@ -166,6 +169,7 @@ def test_the_time_term_moves_work_to_the_faster_agent():
     assert timed.price(list(graph.actions))[2][("g2", "robot")] == 1.0
 
 
+@pytest.mark.slow
 def test_the_robot_hands_every_part_over_in_parallel_beside_an_idle_worker(tmp_path):
     """multi-subject, robot only, in parallel (separation monitoring on): each part is presented at the
     assembly, in front of the idle worker, who does not step aside. The robot used to stop there for good

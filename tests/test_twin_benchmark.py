@@ -13,6 +13,7 @@ import pytest
 from ergosim.experiment.benchmark import bench_repetition
 
 
+@pytest.mark.slow
 def test_one_repetition_is_timed_against_raw_stepping_of_the_same_simulated_time():
     res = bench_repetition("kwear-validation", "hrc", seed=0)
     assert res["sim_time"] >= 38.0 - 1e-9  # a repetition lasts at least the takt

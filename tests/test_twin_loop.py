@@ -28,6 +28,7 @@ def hrc_run():
     return sc.protocol, run_subject(sc, 0, 0, sc.protocol.modes)
 
 
+@pytest.mark.slow
 def test_hrc_completes_every_assembly_through_the_scene(hrc_run):
     cfg, res = hrc_run
     run = res.runs["hrc"]
@@ -84,6 +85,7 @@ def _repetition_starts(run) -> list[float]:
     return [min(a.t_start for a in run.allocations if a.repetition == r) for r in (1, 2)]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("takt_paced", [False, True])
 def test_hrc_is_paced_by_the_robot_unless_takt_paced(takt_paced):
     """§7.2: in HRC "the assembly rhythm was marked by the robot executions" (``takt_paced = false``, the
@@ -132,6 +134,7 @@ def test_same_seed_same_results_serial_or_parallel(kv_two_subjects, tmp_path):
     a, b = kv_two_subjects.out, tmp_path / "parallel"
     assert kv_two_subjects.code == 0
     assert main(["run", "kwear-validation", "--subjects", "2", "--reps", "1", "--jobs", "2", "--quiet",
+                 "--no-plots",
                  "--out", str(b)]) == 0
     for name in ("summary.json", "allocations.csv", "ticks.csv"):
         assert (a / name).read_bytes() == (b / name).read_bytes(), name
@@ -158,6 +161,7 @@ def test_bad_settings_are_one_line_errors(args, message, capsys, tmp_path):
     assert message in err and err.count("\n") == 1 and "Traceback" not in err
 
 
+@pytest.mark.slow
 def test_cli_error_has_no_traceback_in_a_subprocess(tmp_path):
     proc = subprocess.run([sys.executable, "-m", "ergosim.cli", "run", "no-such-scenario", "--out",
                            str(tmp_path)], check=False, capture_output=True, text=True)
@@ -165,6 +169,7 @@ def test_cli_error_has_no_traceback_in_a_subprocess(tmp_path):
     assert "unknown scenario 'no-such-scenario'" in proc.stderr and "Traceback" not in proc.stderr
 
 
+@pytest.mark.slow
 def test_recording_of_a_run_matches_its_ticks_file(kv_run):
     out, rrd, code = kv_run  # the shared run (tests/conftest.py)
     assert code == 0
@@ -190,7 +195,7 @@ def _robot_share(out, *sets: str) -> tuple[float, float]:
     """Robot share of the decisions with a choice (robot_share_chosen: what the allocator chose, whether the
     robot then managed it or not) and mean human cost, from a real `ergosim run`."""
     args = ["run", "multi-subject", "--mode", "hrc", "--subjects", "4", "--reps", "5", "--seed", "0",
-            "--jobs", "2", "--quiet", "--out", str(out)]
+            "--jobs", "2", "--quiet", "--no-plots", "--out", str(out)]
     for s in sets:
         args += ["--set", s]
     assert main(args) == 0

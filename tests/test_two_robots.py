@@ -9,6 +9,7 @@ from __future__ import annotations
 import csv
 import json
 
+import pytest
 from own_product import CELL, SCENARIO, TASK, two_robots, write_product
 
 from ergosim import api
@@ -18,12 +19,14 @@ from ergosim.viz import RecordingReader
 QUICK = 'modes = ["r-only"]\neta_max = 2'
 
 
+@pytest.mark.slow
 def test_two_robots_each_do_the_actions_the_task_gives_them(tmp_path, capsys):
     task, cell = two_robots()
     scenario = write_product(tmp_path / "two", task=task, cell=cell,
                              scenario=SCENARIO.replace('modes = ["hrc", "h-only", "r-only"]', QUICK))
     out, rrd = tmp_path / "out", tmp_path / "two.rrd"
-    assert main(["run", str(scenario), "--jobs", "1", "--quiet", "--out", str(out), "--rrd", str(rrd)]) == 0
+    assert main(["run", str(scenario), "--jobs", "1", "--quiet",
+                 "--no-plots", "--out", str(out), "--rrd", str(rrd)]) == 0
     capsys.readouterr()
     with (out / "allocations.csv").open() as f:
         rows = {r["action"]: r for r in csv.DictReader(f)}
@@ -52,12 +55,14 @@ def test_each_robot_moves_only_when_it_acts(tmp_path):
     assert base[0] == 0.90 and base[1] == -0.35
 
 
+@pytest.mark.slow
 def test_a_cell_without_a_robot_runs_a_task_without_one(tmp_path, capsys):
     task = TASK.replace('[agents.robot]\nkind = "robot"\ncost = 2.5\n', "")
     cell = CELL[:CELL.index("[robots.robot]")] + CELL[CELL.index("[furniture.bench]"):]
     scenario = write_product(tmp_path, task=task, cell=cell, scenario=SCENARIO.replace(
         'modes = ["hrc", "h-only", "r-only"]', 'modes = ["h-only"]\neta_max = 2'))
-    assert main(["run", str(scenario), "--jobs", "1", "--quiet", "--out", str(tmp_path / "out")]) == 0
+    assert main(["run", str(scenario), "--jobs", "1", "--quiet",
+                 "--no-plots", "--out", str(tmp_path / "out")]) == 0
     capsys.readouterr()
     summary = json.loads((tmp_path / "out" / "summary.json").read_text())
     assert summary["complete"] and summary["modes"]["h-only"]["repetitions_completed"] == 1

@@ -28,7 +28,7 @@ def _rows(path):
 def test_ergosim_run_gearbox_with_the_ur5(tmp_path, capsys):
     out = tmp_path / "gearbox-ur5"
     code = main(["run", "gearbox", "--set", "scene.robots.robot.model=ur5", "--set", "eta_max=2",
-                 "--subjects", "1", "--reps", "2", "--mode", "r-only", "--jobs", "1", "--quiet",
+                 "--subjects", "1", "--reps", "2", "--mode", "r-only", "--jobs", "1", "--quiet", "--no-plots",
                  "--out", str(out)])
     printed = capsys.readouterr()
     assert code == 0

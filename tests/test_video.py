@@ -55,6 +55,7 @@ def recorded():
     return sc, res.runs["hrc"], subject_cell(sc, scenario_subject(sc, 0, 0))
 
 
+@pytest.mark.slow
 def test_the_filmed_subject_is_the_simulated_one(recorded, monkeypatch, tmp_path):
     """A video shows the body the run simulated. kwear-validation's population is all women
     (female_fraction = 1) at its own pace; a subject drawn with the population defaults is someone else."""
@@ -75,6 +76,7 @@ def test_the_filmed_subject_is_the_simulated_one(recorded, monkeypatch, tmp_path
     assert not np.array_equal(default.body_pos, simulated.body_pos)
 
 
+@pytest.mark.slow
 def test_pose_renderer_draws_what_mujoco_draws_from_the_live_state():
     """Poses written into the renderer's own MjData give MuJoCo's own picture of the simulated state."""
     cell = build_cell(load_scenario("multi-subject").cell())
@@ -134,6 +136,7 @@ def test_timeline_draws_the_runs_own_records(recorded):
         tl.window((2, 2))
 
 
+@pytest.mark.slow
 def test_two_seconds_of_a_run_to_mp4_and_back(recorded, tmp_path):
     """Issue 16 proof: 2 s of a real run at 30 fps, read back: frame count, size, non-uniform, moving."""
     _, run, cell = recorded
@@ -252,6 +255,7 @@ def test_video_options_are_checked_before_any_simulation(args, needle, tmp_path,
     assert not out.exists()
 
 
+@pytest.mark.slow
 def test_render_writes_a_still_from_a_named_view(tmp_path, capsys):
     out = tmp_path / "cell.png"
     assert main(["render", "gearbox", "--out", str(out), "--view", "top", "--size", "320x240"]) == 0
@@ -294,6 +298,7 @@ def test_every_public_name_exists(package):
         assert getattr(module, name) is not None, name
 
 
+@pytest.mark.slow
 def test_the_readme_video_command_films_a_hand_over(tmp_path):
     """Issue 27: the README's command filmed a repetition the robot never acted in. The same run without
     the video (the results are byte-identical with it): in the filmed repetitions the robot hands a part

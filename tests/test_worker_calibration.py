@@ -37,6 +37,7 @@ def test_consistent_subject_reaches_v_des_with_eta0(scene):
         assert c.duration > 2.0 and c.dropouts == 0 and 1 <= c.rula_grand <= 7
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("scene", SCENES)
 def test_default_subject_reports_eta_and_errors(scene):
     subject = make_subjects(1, seed=0)[0]
@@ -52,6 +53,7 @@ def test_default_subject_reports_eta_and_errors(scene):
         assert np.isfinite(c.errors).all() and np.all((c.alpha > 0) & (c.alpha <= 1))
 
 
+@pytest.mark.slow
 def test_same_seed_same_calibration():
     subject = make_subjects(1, seed=0)[0]
     a = calibrate_subject("kwear-validation", subject, eta_max=3, seed=5)
@@ -78,6 +80,7 @@ def test_store_round_trip(tmp_path):
     assert store.workers() == ["C01"]
 
 
+@pytest.mark.slow
 def test_dropouts_are_counted_and_contribute_no_wear():
     cal = calibrate_subject("kwear-validation", _consistent(), dropout_rate=0.05, eta_max=3)
     assert sum(c.dropouts for c in cal.actions.values()) > 0

@@ -305,6 +305,7 @@ def test_replay_command_unwritable_out_is_one_line_error(tmp_path, capsys):
     assert (tmp_path / "taken").read_text() == "a file, not a directory"
 
 
+@pytest.mark.slow
 def test_replay_error_has_no_traceback_in_a_subprocess(tmp_path):
     proc = subprocess.run([sys.executable, "-m", "ergosim.cli", "replay", str(tmp_path / "missing.bvh"),
                            "--out", str(tmp_path / "o")], check=False, capture_output=True, text=True)

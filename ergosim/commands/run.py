@@ -59,6 +59,9 @@ def add_parser(sub) -> argparse.ArgumentParser:
                         "docs/workcell_format.md")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar; log warnings only")
     add_plot_subject_argument(p)
+    p.add_argument("--no-plots", dest="plots", action="store_false",
+                   help="write no figures (PNG): the run is faster; `ergosim plot OUT` draws them later from "
+                        "the folder's files")
     add_video_arguments(p, mode_names())
     return p
 
@@ -147,7 +150,6 @@ def _precheck(scenario) -> None:
 def run(args) -> int:
     from ergosim.experiment.scenario_run import EXIT_ABANDONED, run_scenario  # noqa: PLC0415
     from ergosim.experiment.summary_text import summary_text  # noqa: PLC0415
-    from ergosim.viz import open_recording  # noqa: PLC0415
 
     scenario, subjects = _scenario(args)
     cfg = scenario.protocol
@@ -164,19 +166,24 @@ def run(args) -> int:
     _precheck(scenario)
     if video is not None:
         check_can_render()
-    recorder = open_recording(rrd=args.rrd, spawn=args.spawn, connect=args.connect,
-                              recording_name=f"ergosim {args.scenario} seed {args.seed}")
+    recorder = None  # rerun is imported only for a run that records (a second of start-up otherwise)
+    if args.rrd is not None or args.spawn or args.connect is not None:
+        from ergosim.viz import open_recording  # noqa: PLC0415
+
+        recorder = open_recording(rrd=args.rrd, spawn=args.spawn, connect=args.connect,
+                                  recording_name=f"ergosim {args.scenario} seed {args.seed}")
     committed = False
     try:
         result = run_scenario(scenario, seed=args.seed, out=out, jobs=args.jobs or os.cpu_count(),
                               progress=not args.quiet, recorder=recorder,
                               record_subject=args.rrd_subject if args.rrd_subject is not None
                               else subjects.start, record_mode=args.rrd_mode, video=video,
-                              plot_subjects=plot_subjects, subjects=subjects)
+                              plot_subjects=plot_subjects, subjects=subjects, plots=args.plots)
         committed = True
     finally:
         try:
-            recorder.close(commit=committed)
+            if recorder is not None:
+                recorder.close(commit=committed)
         except ErgosimError as err:
             if committed:  # the results are written: show them, then say what went wrong with the viewer
                 print(summary_text(result.summary, cfg))
@@ -185,7 +192,7 @@ def run(args) -> int:
     print(summary_text(result.summary, cfg))
     team = "team.json, " if (out / "team.json").is_file() else ""
     print(f"\nresults: {out.resolve()} (run.json, summary.json, {team}allocations.csv, failures.csv, "
-          "ticks.csv, subjects.csv, kwear_actions.csv, kwear_state_*.json, *.png)")
+          f"ticks.csv, subjects.csv, kwear_actions.csv, kwear_state_*.json{', *.png' if args.plots else ''})")
     if args.rrd:
         print(f"recording: {Path(args.rrd).resolve()}  (open it with: rerun {args.rrd})")
     if result.video is not None:

@@ -28,7 +28,6 @@ from ergosim.experiment.csv_files import (
     write_ticks,
 )
 from ergosim.experiment.kwear_state import state_document
-from ergosim.experiment.plots import write_plots
 from ergosim.experiment.subject_records import RECORDS_FILE, RunRecord, SubjectRecord, write_records
 
 __all__ = ["Output", "UnitTable", "Products", "OUTPUTS", "output", "write_outputs", "merge_outputs"]
@@ -40,7 +39,7 @@ class Products:
     (:meth:`~ergosim.twin.protocol.ScenarioConfig.record`); ``records``: the subject records, in subject
     order; ``summary``: the summary.json document; ``team``: team.json's, or None; ``results``: the
     subjects' full results (per-tick logs, KWear traces), empty in a merge; ``plot_subjects``: the subjects
-    the figures show (None: all)."""
+    the figures show (None: all); ``plots``: False writes no figures (``ergosim run --no-plots``)."""
 
     scenario: str
     seed: int
@@ -51,6 +50,7 @@ class Products:
     team: dict | None = None
     results: tuple = ()
     plot_subjects: tuple[int, ...] | None = None
+    plots: bool = True
 
     def runs_by_mode(self) -> list[tuple[str, RunRecord]]:
         """(worker name, run record) of every run: mode by mode in the protocol's order, then subject."""
@@ -140,7 +140,10 @@ def _action_traces(out: Path, p: Products) -> None:
 
 
 def _plots(out: Path, p: Products) -> None:
-    if (out / "ticks.csv").is_file():  # drawn from the folder's own files (`ergosim plot` draws them again)
+    # drawn from the folder's own files (`ergosim plot` draws them again, or later after --no-plots)
+    if p.plots and (out / "ticks.csv").is_file():
+        from ergosim.experiment.plots import write_plots  # noqa: PLC0415 - matplotlib only where it draws
+
         write_plots(out, subjects=p.plot_subjects)
 
 

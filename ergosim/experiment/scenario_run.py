@@ -31,7 +31,6 @@ from ergosim.experiment.interrupt import (
     stop_reason,
 )
 from ergosim.experiment.outputs import Products, output, write_outputs
-from ergosim.experiment.recording import record_run
 from ergosim.experiment.run_folder import RunFolder
 from ergosim.experiment.runner import SubjectResult, run_subject, scenario_subject, subject_cell
 from ergosim.experiment.scenario import Scenario
@@ -89,7 +88,7 @@ def run_config(cfg: ScenarioConfig, overrides: Mapping[str, str] | None) -> dict
 
 def _products(name: str, seed: int, cfg: ScenarioConfig, results: list[SubjectResult], complete: bool,
               status: str, plot_subjects=None, subjects: range | None = None,
-              overrides: Mapping[str, str] | None = None) -> Products:
+              overrides: Mapping[str, str] | None = None, plots: bool = True) -> Products:
     """What the outputs are written from. The summary is computed from the subject records, as ``ergosim
     merge`` computes it for shards."""
     results = sorted(results, key=lambda r: r.subject)
@@ -101,7 +100,7 @@ def _products(name: str, seed: int, cfg: ScenarioConfig, results: list[SubjectRe
     team = None
     if team_in_summary(cfg, modes):  # a team setting is not the paper's: team.json, and in summary.json
         team = summary["team"] = team_document(cfg, modes)
-    return Products(name, seed, config, records, span, summary, team, tuple(results), plot_subjects)
+    return Products(name, seed, config, records, span, summary, team, tuple(results), plot_subjects, plots)
 
 
 def _with_status(p: Products, status: str) -> Products:
@@ -161,7 +160,7 @@ def _finish(folder: RunFolder, stop, out: Path, products: Products | None, statu
 def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None = None, progress: bool = True,
                  recorder=None, record_subject: int = 0, record_mode: str | None = None,
                  video=None, plot_subjects: tuple[int, ...] | None = None,
-                 subjects: range | None = None) -> ScenarioResult:
+                 subjects: range | None = None, plots: bool = True) -> ScenarioResult:
     """Run ``scenario`` for its subjects and write summary.json, allocations.csv, failures.csv, ticks.csv,
     the KWear state files and PNGs into ``out``, which the run owns (run.json).
 
@@ -169,7 +168,8 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
     ``record_mode`` (default: the first mode) is logged to it (3-D workcell, joint angles, RULA, KWear,
     decisions, failures) once the run is over. ``video`` (a :class:`~ergosim.video.VideoRequest`): that
     subject's run in that mode is rendered to an MP4 after every result is written. ``plot_subjects``: the
-    subjects the timelines and the per-action figure show (default: every subject). ``subjects``: run only
+    subjects the timelines and the per-action figure show (default: every subject); ``plots``: False draws
+    no figures (``ergosim plot`` draws them later from the folder's files). ``subjects``: run only
     these subjects of the population (a shard, ``ergosim run --subject-range``; default all), each seeded
     as in the whole run. SIGINT and SIGTERM stop the run the same way: the finished subjects are written,
     then :class:`~ergosim.experiment.interrupt.Interrupted` propagates. A signal that comes while the results
@@ -220,7 +220,7 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
             if bar is not None:
                 bar.close()
             products = _products(name, seed, cfg, results, False, status, plot_subjects, subjects,
-                                 scenario.overrides) if results or status == "interrupted" else None
+                                 scenario.overrides, plots) if results or status == "interrupted" else None
             summary, status = _finish(folder, stop, out, products, status, reason)
         if status == "interrupted":
             stop.release()  # a signal held while a whole run was written (its outputs say interrupted)
@@ -271,6 +271,8 @@ def _simulate(args: list, jobs: int, finished: Callable[[SubjectResult], None]) 
 
 def _record(recorder, scenario: Scenario, seed: int, result: SubjectResult, mode: str) -> None:
     """Log ``result``'s run in ``mode`` to the rerun ``recorder``, in the cell the subject ran in."""
+    from ergosim.experiment.recording import record_run  # noqa: PLC0415 - rerun only for a run recorded
+
     cell = subject_cell(scenario, scenario_subject(scenario, result.subject, seed))
     view = cell.config.view()
     record_run(recorder, cell.model, result.runs[mode], scenario.protocol.cost.v_th, cell.parts,

@@ -61,7 +61,8 @@ def pace_scan(paces: Sequence[float], seeds: Sequence[int], scenario: str = "kwe
             over = {"pace": repr(pace), "modes": "hrc", "repetitions": str(repetitions)}
             sc = load_scenario(scenario, over)
             with tempfile.TemporaryDirectory() as tmp:
-                result = run_scenario(sc, seed=seed, out=Path(tmp) / "run", jobs=1, progress=False)
+                result = run_scenario(sc, seed=seed, out=Path(tmp) / "run", jobs=1, progress=False,
+                                      plots=False)
                 first[seed] = first_robot_repetition(result.summary)
         log(f"pace {pace:.3f}: first robot decision in rp {first}")
         rows.append(PaceRow(pace, first))
@@ -86,7 +87,8 @@ def h_only_band(seeds: Sequence[int], scenario: str = "multi-subject",
     for seed in seeds:
         sc = load_scenario(scenario, {"pace": "1.0", "modes": "h-only", "repetitions": "1"})
         with tempfile.TemporaryDirectory() as tmp:
-            result = run_scenario(sc, seed=seed, out=Path(tmp) / "run", jobs=None, progress=False)
+            result = run_scenario(sc, seed=seed, out=Path(tmp) / "run", jobs=None, progress=False,
+                                  plots=False)
         reps = [r["duration_s"] for r in result.summary["modes"]["h-only"]["repetitions"]
                 if r["duration_s"] is not None]
         log(f"seed {seed}: H-only repetitions at MTM-1 standard pace take {min(reps):.1f}-{max(reps):.1f} s")

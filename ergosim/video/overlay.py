@@ -27,9 +27,9 @@ import matplotlib
 import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 
+from ergosim.colors import JOINT_COLORS, agent_color
 from ergosim.posture import KWEAR_JOINTS
 from ergosim.video.timeline import FrameInfo
-from ergosim.viz.styles import JOINT_COLORS, agent_color
 
 __all__ = ["Overlay", "WARN_COLOR"]
 

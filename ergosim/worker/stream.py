@@ -13,7 +13,6 @@ from dataclasses import dataclass
 
 import mujoco
 import numpy as np
-from scipy.signal import lfilter
 
 from ergosim.human.mocap import MocapHuman
 from ergosim.human.model import HumanModel, body_qpos
@@ -74,6 +73,9 @@ class MocapStream:
             sigma = self.noise_scale * self.subject.bias_deg
             w = self.rng.normal(0.0, sigma * np.sqrt(1.0 - a * a), angles.shape)
             # the recursion as a first-order IIR filter over the frames, continuing from the last bias
+            # (scipy.signal imported here: it costs a second at start-up to processes that never filter)
+            from scipy.signal import lfilter  # noqa: PLC0415
+
             bias, _ = lfilter([1.0], [1.0, -a], w, axis=0, zi=(a * self.bias)[None, :])
             if n:
                 self.bias = bias[-1].copy()

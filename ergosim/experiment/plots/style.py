@@ -12,8 +12,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 from ergosim.atomic import write_bytes  # noqa: E402
+from ergosim.colors import JOINT_COLORS, PALETTE, agent_color  # noqa: E402
 from ergosim.posture import KWEAR_JOINTS  # noqa: E402
-from ergosim.viz.styles import JOINT_COLORS, PALETTE, agent_color  # noqa: E402
 
 __all__ = ["COLOURS", "MODE_COLOURS", "agent_colour", "mode_colour", "save_figure", "plt"]
 
