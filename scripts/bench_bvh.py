@@ -1,11 +1,14 @@
 """Benchmark a BVH replay: 1 h of 60 Hz motion capture through ``ergosim replay``, end to end and by stage.
 
-    python scripts/bench_bvh.py [--minutes 60] [--rate 60] [--repeats 3] [--seed 0] [--json PATH]
+    python scripts/bench_bvh.py [--minutes 60] [--rate 60] [--repeats 3] [--seed 0] [--baseline REV]
+                                [--json PATH]
 
 Writes a synthetic recording (seeded) to a temporary directory, replays it ``--repeats`` times in-process
 and prints the medians [s]: the whole command, and parse, mapping, RULA + KWear, ticks.csv and
-summary.json on their own, as wall and CPU time (the CPU time is the wall time of an idle machine). The
-logic lives in ergosim.commands.replay_benchmark.
+summary.json on their own, as wall and CPU time (the CPU time is the wall time of an idle machine). With
+``--baseline REV`` the same recording is then replayed by this checkout and by git revision REV side by
+side (two processes asked in turn, ergosim.commands.replay_baseline), and their outputs are compared byte
+for byte. The logic lives in ergosim.commands.replay_benchmark.
 
 Target (issue 28): 1 h of 60 Hz BVH in <= 2 s end to end.
 """
@@ -16,8 +19,10 @@ import argparse
 import json
 import os
 import tempfile
+from pathlib import Path
 
 from ergosim.atomic import write_json
+from ergosim.commands.replay_baseline import side_by_side
 from ergosim.commands.replay_benchmark import bench_bvh
 
 TARGET_S = 2.0
@@ -29,10 +34,14 @@ def main() -> None:
     parser.add_argument("--rate", type=float, default=60.0, help="frame rate of the recording [Hz]")
     parser.add_argument("--repeats", type=int, default=3, help="replays timed; the median is reported")
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--baseline", metavar="REV", help="git revision replayed side by side (e.g. main)")
     parser.add_argument("--json", dest="json_path")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
         res = bench_bvh(tmp, 60.0 * args.minutes, args.rate, args.repeats, args.seed, progress=print)
+        if args.baseline:
+            res["side_by_side"] = side_by_side(Path(tmp) / "bench.bvh", Path(tmp), args.baseline,
+                                               args.repeats, progress=print)
     res["load_average"] = os.getloadavg()
     rec = res["recording"]
     print(f"{rec['frames']} frames at {rec['rate_hz']:g} Hz ({rec['bytes'] / 1e6:.0f} MB), median of "
@@ -45,11 +54,18 @@ def main() -> None:
     if args.minutes == 60.0 and args.rate == 60.0:
         met = "met" if res["end_to_end_s"] <= TARGET_S else "MISSED"
         print(f"{met}: 1 h of 60 Hz BVH in <= {TARGET_S:g} s end to end: {res['end_to_end_s']:.2f} s")
+    if args.baseline:
+        sbs = res["side_by_side"]
+        for side in ("current", "baseline"):
+            print(f"  {side:<8} ({args.baseline if side == 'baseline' else 'this checkout'}): "
+                  f"{sbs[side]['end_to_end_s']:.2f} s wall, {sbs[side]['end_to_end_cpu_s']:.2f} s CPU")
+        print(f"  speed-up {sbs['speedup_wall']:.2f}x wall, {sbs['speedup_cpu']:.2f}x CPU; byte-identical: "
+              + ", ".join(f"{f} {'yes' if same else 'NO'}" for f, same in sbs["identical"].items()))
     if args.json_path:
         write_json(args.json_path, res)
         print(f"json: {args.json_path}")
     else:
-        keys = ("end_to_end_s", "end_to_end_cpu_s", "stages_s", "stages_cpu_s")
+        keys = ("end_to_end_s", "end_to_end_cpu_s", "stages_s", "stages_cpu_s", "load_average")
         print(json.dumps({k: res[k] for k in keys}))
 
 

@@ -1,19 +1,23 @@
 """Planner benchmark: fast vs paper replan times on the paper's generated tasks (§6), and beyond.
 
     python scripts/bench_planner.py [--json PATH] [--plot PATH] [--quick] [--cap SECONDS] [--seed S]
-                                    [--team-only] [--lookahead]
+                                    [--team-only] [--lookahead [--baseline REV] [--repeats N]]
 
 First the team decisions (one decision for a whole idle team, beside a replan on the same graph), then the
 replan table as rows complete, then the targets; writes a PNG plot and optionally the rows as JSON. The
-logic lives in ergosim.planner.benchmark and ergosim.planner.benchmark_team.
+logic lives in ergosim.planner.benchmark and ergosim.planner.benchmark_team. ``--lookahead`` times only the
+kwear-lookahead decisions (ergosim.planner.benchmark_lookahead); ``--baseline REV`` times git revision REV's
+look-ahead beside them, decision by decision, and says whether every plan is the same.
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 
 from ergosim.atomic import write_json
+from ergosim.errors import ErgosimError
 from ergosim.planner.benchmark import (
     DEFAULT_CAP_S,
     check_targets,
@@ -36,6 +40,7 @@ from ergosim.planner.benchmark_team import (
     run_team_benchmark,
     team_rows_json,
 )
+from ergosim.planner.planner_revision import planner_at
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -53,6 +58,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--team-only", action="store_true", help="only the team-decision rows")
     parser.add_argument("--lookahead", action="store_true",
                         help="only the kwear-lookahead rows (decision times; the beam against exact search)")
+    parser.add_argument("--baseline", metavar="REV",
+                        help="with --lookahead: time revision REV's look-ahead beside, decision by decision")
+    parser.add_argument("--repeats", type=int, default=None,
+                        help="with --lookahead: decisions per row (default 31, quick 5)")
     args = parser.parse_args(argv)
     if args.lookahead:
         return lookahead(args)
@@ -87,9 +96,17 @@ def main(argv: list[str] | None = None) -> int:
 
 def lookahead(args) -> int:
     """The kwear-lookahead rows (issue 24): decision times beside the replan, then the beam's quality."""
-    print("look-ahead decisions (fresh wear per decision; times are medians [ms]):", flush=True)
-    rows = run_lookahead_benchmark(seed=args.seed, quick=args.quick)
+    try:
+        baseline = planner_at(args.baseline) if args.baseline else None
+    except ErgosimError as err:
+        print(f"bench_planner: {err}", file=sys.stderr)
+        return 2
+    print("look-ahead decisions (fresh wear per decision; times are medians [ms]"
+          + (f"; beside {args.baseline}'s, alternating" if baseline else "") + "; load average "
+          + " ".join(f"{x:.2f}" for x in os.getloadavg()) + "):", flush=True)
+    rows = run_lookahead_benchmark(seed=args.seed, quick=args.quick, baseline=baseline, repeats=args.repeats)
     print(format_lookahead_rows(rows), flush=True)
+    print("load average after: " + " ".join(f"{x:.2f}" for x in os.getloadavg()), flush=True)
     target, met, value = check_lookahead_target(rows)
     print(f"{'not measured' if met is None else ('met' if met else 'MISSED'):>12}  {target}: {value}\n")
     quality = beam_quality(draws=10 if args.quick else 40, seed=args.seed)

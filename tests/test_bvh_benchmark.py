@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
+from ergosim.commands.replay_baseline import OUTPUTS, side_by_side
 from ergosim.commands.replay_benchmark import STAGES, bench_bvh, synthetic_angles, write_synthetic_bvh
 from ergosim.human.joints import joint_spec
 from ergosim.posture import HUMAN_JOINTS
@@ -36,3 +38,14 @@ def test_bench_bvh_reports_every_stage(tmp_path):
     assert list(res["stages_s"]) == list(STAGES) == list(res["stages_cpu_s"])
     assert res["end_to_end_s"] > 0.0 and res["end_to_end_cpu_s"] > 0.0
     assert (tmp_path / "replay" / "ticks.csv").read_text().count("\n") == 61  # header + 60 ticks
+
+
+@pytest.mark.slow  # two processes, each importing ergosim
+def test_side_by_side_replays_two_revisions_and_compares_their_outputs(tmp_path):
+    path = write_synthetic_bvh(tmp_path / "s.bvh", duration_s=3.0, seed=2)
+    res = side_by_side(path, tmp_path, "HEAD", repeats=1)
+    assert res["baseline_rev"] == "HEAD" and (tmp_path / "baseline_src" / "ergosim" / "cli.py").is_file()
+    for side in ("current", "baseline"):
+        assert len(res[side]["runs"]) == 1 and res[side]["end_to_end_cpu_s"] > 0.0
+        assert (tmp_path / f"out_{side}" / "ticks.csv").read_text().count("\n") == 61
+    assert set(res["identical"]) == set(OUTPUTS) and all(res["identical"].values())

@@ -75,6 +75,9 @@ def test_a_well_formed_block_is_read_at_once_with_the_bits_of_the_line_reader(ro
     fast = read_frames(text[head[2]:], len(rows), N_CH)
     assert fast is not None
     assert np.array_equal(_bits(fast), _bits(_line_by_line(text)))
+    data = text.encode()  # as parse_bvh reads a file: the bytes, read in place from the header's offset
+    in_place = read_frames(data, len(rows), N_CH, find_header(data)[2])
+    assert in_place is not None and np.array_equal(_bits(in_place), _bits(fast))
     assert np.array_equal(_bits(parse_bvh_text(text).motion), _bits(fast))
 
 
@@ -111,6 +114,32 @@ def test_every_block_gives_what_the_line_reader_gives(body, frames):
         assert got == expected
     else:
         assert np.array_equal(_bits(got), _bits(expected))
+
+
+WELL_FORMED = [
+    ("-0 0 -0.000000 1e-5 -1E-05\n1e300 -1.7976931348623157e308 5e-324 123456789012345678 0.1\n", 2),
+    ("1\t2\t3\t4\t5\r\n6 \t7  8 9 10 \r\n", 2),  # tabs, runs of blanks, CRLF, trailing blanks
+    ("  1 2 3 4 5   \n\n6 7 8 9 10", 2),  # leading blanks, a blank line, no final line end
+    ("+3 .5 5. 1e-320 -2.5e+02\r\n", 1),
+]
+
+
+@pytest.mark.parametrize("body,frames", WELL_FORMED + MUTATIONS + [("1 2 3 4 5\n6 7 8", 2)])  # cut mid-frame
+def test_a_file_read_in_place_gives_the_line_readers_values_or_error(tmp_path, body, frames):
+    """parse_bvh reads a file's frame lines in place from its bytes: the line reader's values bit for bit,
+    or its one-line error (a truncated last frame, a bad value, ...)."""
+    text = HEAD.replace("{n}", str(frames)) + body
+    path = tmp_path / "m.bvh"
+    path.write_bytes(text.encode())
+    expected = _outcome(_line_by_line, text)
+    got = _outcome(lambda p: parse_bvh(p).motion, path)
+    if isinstance(expected, str):
+        assert got == expected.replace("<string>", str(path))
+    else:
+        assert np.array_equal(_bits(got), _bits(expected))
+    if (body, frames) in WELL_FORMED:  # read at once, not by the line reader
+        data = text.encode()
+        assert read_frames(data, frames, N_CH, find_header(data)[2]) is not None
 
 
 @pytest.mark.parametrize("body,frames", MUTATIONS[:6])

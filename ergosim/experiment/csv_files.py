@@ -8,13 +8,13 @@ from __future__ import annotations
 
 import csv
 import dataclasses
-import io
 from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 
 from ergosim.atomic import atomic_open
+from ergosim.g9_csv import g9_csv
 from ergosim.posture import KWEAR_JOINTS
 from ergosim.twin.records import TICK_COLUMNS, Allocation, Failure, SubjectRun
 
@@ -84,11 +84,10 @@ def write_ticks(path: Path, runs: Sequence[SubjectRun]) -> None:
                 full = np.full((len(rows), len(columns)), np.nan)
                 full[:, [columns.index(c) for c in run.ticks.columns]] = rows
                 rows = full
-            buf = io.StringIO()
-            # 9 significant digits keep KWear well below the 1e-6 used to compare with recordings.
-            np.savetxt(buf, rows, fmt="%.9g", delimiter=",")
+            # 9 significant digits keep KWear well below the 1e-6 used to compare with recordings: the bytes
+            # of np.savetxt(fmt="%.9g"), built in bulk (ergosim/g9_csv.py)
             prefix = f"{run.subject},{run.mode},"
-            f.write("".join(prefix + line + "\n" for line in buf.getvalue().splitlines()))
+            f.write("".join(prefix + line + "\n" for line in g9_csv(rows).decode().splitlines()))
 
 
 def write_subjects(path: Path, runs: Sequence[tuple[str, SubjectRun]]) -> None:
@@ -112,6 +111,5 @@ def write_action_traces(path: Path, traces: Sequence[tuple[int, str, np.ndarray,
     with atomic_open(path, "w") as f:
         f.write(",".join(ACTION_TRACE_COLUMNS) + "\n")
         for subject, action, t, v in traces:
-            buf = io.StringIO()
-            np.savetxt(buf, np.column_stack([t, v]), fmt="%.9g", delimiter=",")
-            f.write("".join(f"{subject},{action}," + line + "\n" for line in buf.getvalue().splitlines()))
+            text = g9_csv(np.column_stack([t, v])).decode()
+            f.write("".join(f"{subject},{action}," + line + "\n" for line in text.splitlines()))

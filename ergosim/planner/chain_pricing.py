@@ -85,14 +85,22 @@ class Pricing(ABC):
         self.robot_duration = np.where(robots, self.duration, np.inf).min(axis=1, initial=np.inf)
         self.robot_duration[~np.isfinite(self.robot_duration)] = 0.0
 
-    def children(self, cid: int):
-        """The allowed ready (operation, agent) pairs of configuration ``cid``: (op, action, agent, next,
-        next is complete, actions needed after)."""
+    def children(self, cid: int) -> tuple[np.ndarray, np.ndarray]:
+        """The allowed ready (operation, agent) pairs of configuration ``cid``: their
+        :attr:`~ergosim.planner.transitions.Successors.table` (6, k) and the actions needed after each
+        (k, A)."""
         s = self.view.successors(cid)
         if self.unpruned:
-            return s.op, s.action, s.agent, s.next, s.done, s.need
+            return s.table, s.need
         keep = self.allowed[s.action, s.agent]
-        return s.op[keep], s.action[keep], s.agent[keep], s.next[keep], s.done[keep], s.need[keep]
+        return s.table[:, keep], s.need[keep]
+
+    def expand(self, cids: list[int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The children of every configuration in ``cids``, joined: the index in ``cids`` of each one's
+        parent (n,), their tables (6, n) and needs (n, A) as :meth:`children`."""
+        parts = [self.children(c) for c in cids]
+        parent = np.repeat(np.arange(len(cids)), [p[0].shape[1] for p in parts])
+        return parent, np.concatenate([p[0] for p in parts], axis=1), np.concatenate([p[1] for p in parts])
 
     def order_free(self, v: np.ndarray, gamma: bool = True) -> np.ndarray:
         """The paper's prices (eq. 9-11) of every action from wear ``v`` (n, p) -> (n, A): Σ_i V̂_i is
@@ -152,7 +160,7 @@ class Pricing(ABC):
         start] (n,)."""
         m = self.model
         over = m.takt_weight * (np.maximum(0.0, t1 - m.takt) - np.maximum(0.0, t0 - m.takt))
-        return over + m.time_weight * (t1 - t0)
+        return over + m.time_weight * (t1 - t0) if m.time_weight else over  # t1 >= t0: the same bits
 
     # the interface of a pricing: start, step, estimate, dominance
     @abstractmethod
@@ -194,6 +202,11 @@ class Pricing(ABC):
 class SequentialPricing(Pricing):
     """One agent at a time. State: (cost, V (n, p), time since the repetition's start (n,))."""
 
+    def derive(self) -> None:
+        super().derive()
+        self.rest_factor = np.exp(-self.k * self.rest_s)
+        """(A, N) what a step's rest multiplies V by (eq. 5)."""
+
     def start(self, v0, elapsed: float):
         return np.zeros(1), np.asarray(v0, dtype=float)[None, :], np.array([float(elapsed)])
 
@@ -201,7 +214,7 @@ class SequentialPricing(Pricing):
         g, v, t = state
         human = agent == self.human
         v_hat = 1.0 - self.alpha[action] * (1.0 - v)
-        rested = v * np.exp(-self.k * self.rest_s[action, agent])[:, None]
+        rested = v * self.rest_factor[action, agent][:, None]
         v_new = np.where(human[:, None], v_hat, rested)
         price = np.where(human, self.model.price(v_hat), self.cost[action, agent])
         t_new = t + self.duration[action, agent]

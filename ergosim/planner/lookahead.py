@@ -112,48 +112,49 @@ class SequenceSearch:
         self.view = pricing.view
         self.expanded = 0
 
-    def order(self, cost: np.ndarray, op: np.ndarray, agent: np.ndarray) -> np.ndarray:
-        """Indices of the children by cost (equal within ``REL_TOL``), then action and agent names."""
+    def order(self, cost: np.ndarray, tie: np.ndarray) -> np.ndarray:
+        """Indices of the children by cost (equal within ``REL_TOL``), then by ``tie``: their action,
+        operation and agent names (:attr:`~ergosim.planner.transitions.Successors.tie`)."""
         scale = float(np.abs(cost).max(initial=1.0))
         if not math.isfinite(scale):
             scale = float(np.abs(cost[np.isfinite(cost)]).max(initial=1.0))
         level = np.round(cost / (REL_TOL * scale))  # ±inf stays ±inf
-        return np.lexsort((self.view.agent_rank[agent], self.view.op_rank[op], level))
+        return np.lexsort((tie, level))
 
     # ----------------------------------------------------------------------------------------- beam
     def beam(self, cid0: int, state0, width: int):
         """The cheapest complete sequence the beam keeps: (cost, [(op, agent, price, start)]) or None."""
         pricing = self.pricing
-        cids = np.array([cid0])
+        cids = [cid0]
         state = state0
         levels: list[list] = []  # per step: [parent, op, agent, price, start, kept children]
         best = None
-        while len(cids):
-            parts = [pricing.children(int(c)) for c in cids]
-            counts = np.array([len(p[0]) for p in parts])
-            if not counts.sum():
+        while cids:
+            parent, table, need = pricing.expand(cids)
+            if not len(parent):
                 break
-            parent = np.repeat(np.arange(len(cids)), counts)
-            op, act, agent, nxt, done, need = (np.concatenate([p[i] for p in parts]) for i in range(6))
+            op, act, agent, nxt, done, tie = table
             self.expanded += len(op)
             child, price, start = pricing.step(_take(state, parent), op, act, agent)
-            g = child[0]
             levels.append([parent, op, agent, price, start, None])
+            live: slice | np.ndarray = slice(None)  # every child, while none completes the assembly
             if done.any():
                 idx = np.flatnonzero(done)
-                total = g[idx] + pricing.terminal(_take(child, idx))
-                k = int(self.order(total, op[idx], agent[idx])[0])
+                total = child[0][idx] + pricing.terminal(_take(child, idx))
+                k = int(self.order(total, tie[idx])[0])
                 if best is None or total[k] < best[0] - tolerance(best[0]):
                     best = (float(total[k]), len(levels) - 1, int(idx[k]))
-            live = np.flatnonzero(~done)
-            if not len(live):
-                break
-            f = g[live] + pricing.estimate(_take(child, live), need[live], lowest=False, cids=nxt[live])
-            order = live[self.order(f, op[live], agent[live])]
-            _, first = np.unique(nxt[order], return_index=True)  # one partial sequence per configuration
-            keep = order[np.sort(first)][:width]
+                live = np.flatnonzero(done == 0)
+                if not len(live):
+                    break
+            ahead = _take(child, live)
+            f = ahead[0] + pricing.estimate(ahead, need[live], lowest=False, cids=nxt[live])
+            ranked = self.order(f, tie[live])
+            keep = _first_per_key(ranked, nxt[live], width)  # one partial sequence per configuration
+            if isinstance(live, np.ndarray):
+                keep = live[keep]
             levels[-1][5] = keep
-            cids, state = nxt[keep], _take(child, keep)
+            cids, state = nxt[keep].tolist(), _take(child, keep)
         if best is None:
             return None
         _, level, i = best
@@ -199,7 +200,8 @@ class SequenceSearch:
         key = self.pricing.dominance(state)
         if key is not None and self._dominated(cid, g, key[0]):
             return
-        op, act, agent, nxt, _, need = self.pricing.children(cid)
+        table, need = self.pricing.children(cid)
+        op, act, agent, nxt, _, tie = table
         n = len(op)
         if not n:
             return
@@ -208,7 +210,7 @@ class SequenceSearch:
             raise _OutOfBudget
         child, price, start = self.pricing.step(_take(state, np.zeros(n, dtype=np.int64)), op, act, agent)
         bound = child[0] + self.pricing.estimate(child, need, lowest=True)
-        for i in self.order(bound, op, agent).tolist():
+        for i in self.order(bound, tie).tolist():
             if self._best is not None and bound[i] >= self._best[0] - tolerance(self._best[0]):
                 continue
             self._path.append((int(op[i]), int(agent[i]), float(price[i]), float(start[i])))
@@ -218,6 +220,20 @@ class SequenceSearch:
 
 class _OutOfBudget(Exception):
     pass
+
+
+def _first_per_key(ranked: np.ndarray, key: np.ndarray, count: int) -> np.ndarray:
+    """The first ``count`` indices of ``ranked`` whose ``key`` is not that of an earlier one, in that order
+    (a Python loop: the beam stops after a few of its ~100 children)."""
+    seen: set[int] = set()
+    out = []
+    for i, k in zip(ranked.tolist(), key[ranked].tolist(), strict=True):
+        if k not in seen:
+            seen.add(k)
+            out.append(i)
+            if len(out) == count:
+                break
+    return np.array(out, dtype=np.int64)
 
 
 def search_sequences(pricing: Pricing, cid0: int, state0, limits: SearchLimits) -> LookaheadPlan:

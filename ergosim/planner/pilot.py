@@ -23,19 +23,26 @@ __all__ = ["PilotTable", "pilot_table"]
 
 
 class PilotTable:
-    """Per configuration id, one row of ``data`` (A+1 splits m = 0..A, padded): columns ``[0:p]`` Σ_{k≤m}
-    Π_{j≤k} α (the worker's chain sums), ``[p:2p]`` Π_{j≤m} α, ``[2p:3p]`` Π_{j≤m+1} α (the chain's next
-    step, for Γ), then the robots' rest seconds, their costs, the completion's duration and Σ_p of the
-    chain sums; ``ok`` the split is allowed; ``r`` the needed count. Rows grow by doubling."""
+    """Per configuration id, one row of ``data`` (A+1 splits m = 0..A, padded), field-major: ``[0:p]`` the
+    weight of each joint's V in the split's cost, ``[p:2p]`` Π_{j≤m+1} α (the chain's next step, for Γ),
+    ``[2p]`` the split's cost at V = 0 without Γ and takt terms (inf where the split is not allowed),
+    ``[2p+1]`` the completion's duration [s]; ``r`` the needed count. Rows grow by doubling.
+
+    With S_m = Σ_{k≤m} Π_{j≤k} α (the worker's chain sums, per joint), P_m = Π_{j≤m} α, ρ_m the rest factor
+    of the robots' seconds (eq. 5) and ā = Σ_a α_a, a split costs p·m − Σ_p S_m + c_m + w_n·(A·p − P_m·ā)
+    + w_t·D_m + Σ_p V_p·ρ_m·(S_m + w_n·P_m·ā)_p (w_n: ``next_weight``, w_t: ``time_weight``, c_m: the robots'
+    costs, D_m: the duration): linear in V, so the rows hold its constant and its weights."""
 
     def __init__(self, pricing) -> None:
         n_a, p = pricing.alpha.shape
         self.shape = (n_a, p)
         self.slot = np.full(64, -1, dtype=np.int64)  # configuration id -> row, -1: not yet
-        self.data = np.zeros((64, 3 * p + 4, n_a + 1))  # field-major: each field's splits contiguous
-        self.ok = np.zeros((64, n_a + 1), dtype=bool)
+        self.data = np.zeros((64, 2 * p + 2, n_a + 1))  # field-major: each field's splits contiguous
         self.r = np.zeros(64, dtype=np.int64)
         self.size = 0
+        self.later = np.triu(np.full((n_a + 1, n_a + 1), float(pricing.model.cost.gamma)), 1)
+        """Γ where split m is after step j (j < m): a split's Γ terms are its matrix product with the joint
+        counts at V_th after each step."""
 
     def rows(self, pricing, cids: np.ndarray, need: np.ndarray) -> np.ndarray:
         """The slots of configurations ``cids`` (n,), computing those not seen yet from ``need`` (n, A)."""
@@ -43,14 +50,17 @@ class PilotTable:
         if top > len(self.slot):
             grow = max(top, 2 * len(self.slot)) - len(self.slot)
             self.slot = np.concatenate([self.slot, np.full(grow, -1)])
-        missing = np.flatnonzero(self.slot[cids] < 0)
+        ix = self.slot[cids]
+        missing = np.flatnonzero(ix < 0)
         if len(missing):
             fresh, first = np.unique(cids[missing], return_index=True)
             self._add(pricing, fresh, need[missing[first]])
-        return self.slot[cids]
+            ix = self.slot[cids]
+        return ix
 
     def _add(self, pr, cids: np.ndarray, need: np.ndarray) -> None:
         n, (n_a, p) = len(cids), self.shape
+        model = pr.model
         human, robot = pr.human_ok[None], np.isfinite(pr.robot_min)[None]
         wear = (1.0 - pr.alpha).sum(axis=1)
         key = np.where(need, wear[None] + np.where(robot, 0.0, -1e9) + np.where(human, 0.0, 1e9), np.inf)
@@ -67,28 +77,27 @@ class PilotTable:
 
         cost = suffix(ranked(pr.robot_min))
         worker_s = np.cumsum(ranked(pr.duration[:, pr.human]), axis=1)
-        seconds = np.concatenate([np.zeros((n, 1)), worker_s], axis=1)
+        seconds = np.concatenate([np.zeros((n, 1)), worker_s], axis=1) + suffix(ranked(pr.robot_duration))
         r = need.sum(axis=1)
         m = np.arange(n_a + 1)[None, :]
         ok = (m <= r[:, None]) & np.isfinite(cost) & (m >= (need & ~robot).sum(axis=1)[:, None]) & (
             r[:, None] - m >= (need & ~human).sum(axis=1)[:, None])
-        sums = np.concatenate([zeros, np.cumsum(prod, axis=1)], axis=1)
+        sums = np.concatenate([zeros, np.cumsum(prod, axis=1)], axis=1)  # (n, split, p)
+        prods = np.concatenate([ones, prod], axis=1)
+        rest = np.exp(-pr.k * suffix(ranked(pr.max_rest)))  # V after the robots' rests: V·rest
+        flat = m * p - sums.sum(axis=2) + np.where(np.isfinite(cost), cost, 0.0) \
+            + model.next_weight * (pr.next_flat - prods @ pr.next_alpha) + model.time_weight * seconds
         block = np.concatenate([
-            sums,
-            np.concatenate([ones, prod], axis=1),
-            np.concatenate([prod, prod[:, -1:]], axis=1),
-            suffix(ranked(pr.max_rest))[:, :, None],
-            np.where(np.isfinite(cost), cost, 0.0)[:, :, None],
-            (seconds + suffix(ranked(pr.robot_duration)))[:, :, None],
-            sums.sum(axis=2)[:, :, None]], axis=2)
+            (rest[:, :, None] * (sums + model.next_weight * prods * pr.next_alpha)).transpose(0, 2, 1),
+            np.concatenate([prod, prod[:, -1:]], axis=1).transpose(0, 2, 1),
+            np.where(ok, flat, np.inf)[:, None], seconds[:, None]], axis=1)
         end = self.size + n
         if end > len(self.r):
             grow = max(end, 2 * len(self.r))
             self.data = np.resize(self.data, (grow,) + self.data.shape[1:])
-            self.ok = np.resize(self.ok, (grow,) + self.ok.shape[1:])
             self.r = np.resize(self.r, grow)
-        self.data[self.size:end] = block.transpose(0, 2, 1)
-        self.ok[self.size:end], self.r[self.size:end] = ok, r
+        self.data[self.size:end] = block
+        self.r[self.size:end] = r
         self.slot[cids] = np.arange(self.size, end)
         self.size = end
 
@@ -99,34 +108,23 @@ class PilotTable:
         ix = self.rows(pr, cids, need)
         top = int(self.r[ix].max()) + 1  # splits past the most needed actions are empty
         p = v.shape[1]
-        rows = self.data[ix, :, :top]  # (n, field, split)
+        rows = self.data[ix][:, :, :top]  # (n, field, split); whole rows gather faster than a slice
         model = pr.model
-        rest = np.exp(-pr.k * rows[:, 3 * p])  # V after the robots' rests: V·rest
-        m = np.arange(top)
-        # Σ_p (1 − V·rest)·S = Σ_p S − rest·Σ_p V·S
-        total = m * p - rows[:, 3 * p + 3] + rest * np.einsum("npm,np->nm", rows[:, :p], v) \
-            + rows[:, 3 * p + 1]
+        total = rows[:, 2 * p] + (v[:, None, :] @ rows[:, :p])[:, 0]
+        # the worker's V after its (m + 1)-th step (without rest), 1 − (1 − V)·Π α, grows with m: Γ for each
+        # joint from the step it reaches V_th, where Π α <= (1 − V_th)/(1 − V) (from the start at V = 1);
+        # Σ_{j<m} #{joints there after step j + 1}
         w = 1.0 - v
-        # the worker's V after its (m + 1)-th step (without rest) grows with m: Γ once a joint's reaches V_th
-        hot = 1.0 - w * rows[:, 2 * p:3 * p, -1] >= model.v_th  # (n, p): the joint gets there at all
-        if hot.any():
-            h = np.flatnonzero(hot.any(axis=1))
-            chain = 1.0 - w[h, :, None] * rows[h, 2 * p:3 * p]
-            first = np.where(hot[h], np.argmax(chain >= model.v_th[:, None], axis=2), top)  # (h, p)
-            count = np.bincount((np.arange(len(h))[:, None] * (top + 1) + first).ravel(),
-                                minlength=len(h) * (top + 1)).reshape(len(h), top + 1)
-            # Σ_p max(0, m − first_p) = Σ_{j<m} #{p: first_p <= j}
-            total[h, 1:] += model.cost.gamma * np.cumsum(np.cumsum(count[:, :top - 1], axis=1), axis=1)
-        if model.next_weight:  # the next repetition's order-free price of the V left, uncapped: linear
-            prods = rows[:, p:2 * p]
-            left = np.einsum("npm,p->nm", prods, pr.next_alpha) \
-                - rest * np.einsum("npm,np->nm", prods, v * pr.next_alpha[None])
-            total += model.next_weight * (pr.next_flat - left)
-        end = t[:, None] + rows[:, 3 * p + 2]
-        total += model.takt_weight * (np.maximum(0.0, end - model.takt)
-                                      - np.maximum(0.0, t - model.takt)[:, None])
-        total += model.time_weight * rows[:, 3 * p + 2]
-        return np.where(self.ok[ix, :top], total, np.inf).min(axis=1)
+        reach = np.divide(1.0 - model.v_th, w, out=np.full_like(w, np.inf), where=w > 0)
+        hot = np.einsum("npm->nm", (rows[:, p:2 * p] <= reach[:, :, None]).view(np.uint8))  # <= p: fits
+        total += hot @ self.later[:top, :top]
+        if model.takt_weight:  # the seconds the completion adds past the takt
+            late = np.add(t[:, None], rows[:, 2 * p + 1])
+            np.maximum(late, model.takt, out=late)
+            late -= np.maximum(t, model.takt)[:, None]
+            late *= model.takt_weight
+            total += late
+        return total.min(axis=1)
 
 
 def pilot_table(pricing) -> PilotTable:
@@ -135,8 +133,10 @@ def pilot_table(pricing) -> PilotTable:
     if pricing.pilot is not None:
         return pricing.pilot
     digest = hashlib.blake2b(digest_size=16)
+    model = pricing.model
     for arr in (pricing.alpha, pricing.max_rest, pricing.robot_min, pricing.duration[:, pricing.human],
-                pricing.robot_duration, pricing.human_ok):
+                pricing.robot_duration, pricing.human_ok,
+                np.array([pricing.k, model.next_weight, model.time_weight, model.cost.gamma])):
         digest.update(np.ascontiguousarray(arr).tobytes())
     tables = pricing.view.pilots
     key = digest.digest()

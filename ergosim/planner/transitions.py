@@ -29,15 +29,16 @@ class Successors:
     """The hyper-arcs ready in one configuration, flattened per agent: ``op``, ``action``, ``agent`` (k,)
     indices (operation in ``graph.operations``, action in ``graph.actions``, agent in ``graph.agents``),
     ``next`` (k,) the configuration id each leads to, ``done`` (k,) whether that is the full assembly and
-    ``need`` (k, A) the actions still needed there (:meth:`Transitions.needed`)."""
+    ``need`` (k, A) the actions still needed there (:meth:`Transitions.needed`); ``tie`` (k,) the pair's
+    place in (action name, operation name, agent name) order, the searches' tie-break. ``table`` (6, k) holds
+    op, action, agent, next, done and tie as rows, so a search joins many configurations' successors with
+    one concatenation."""
 
-    __slots__ = ("op", "action", "agent", "next", "done", "need")
+    __slots__ = ("op", "action", "agent", "next", "done", "need", "tie", "table")
 
-    def __init__(self, op, action, agent, nxt, done, need) -> None:
-        self.op = np.asarray(op, dtype=np.int64)
-        self.action = np.asarray(action, dtype=np.int64)
-        self.agent = np.asarray(agent, dtype=np.int64)
-        self.next = np.asarray(nxt, dtype=np.int64)
+    def __init__(self, op, action, agent, nxt, done, need, tie) -> None:
+        self.table = np.array([op, action, agent, nxt, done, tie], dtype=np.int64).reshape(6, len(op))
+        self.op, self.action, self.agent, self.next, _, self.tie = self.table
         self.done = np.asarray(done, dtype=bool)
         self.need = np.asarray(need, dtype=bool)
 
@@ -150,7 +151,8 @@ class Transitions:
         cols = list(zip(*rows, strict=True)) if rows else ([], [], [], [])
         done = [self.complete(c) for c in cols[3]]
         need = np.array([self.needed(c) for c in cols[3]], dtype=bool).reshape(len(rows), self.n_actions)
-        succ = self._succ[cid] = Successors(*cols, done, need)
+        tie = self.op_rank[list(cols[0])] * len(self.agent_rank) + self.agent_rank[list(cols[2])]
+        succ = self._succ[cid] = Successors(*cols, done, need, tie)
         return succ
 
     def sequences(self, cid: int, cap: int, budget: int = 2000) -> float:

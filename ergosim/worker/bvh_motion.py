@@ -87,13 +87,23 @@ def motion_header(lines: list[str], start: int, source: str) -> tuple[int, float
     return n_frames, frame_time, n
 
 
-def read_frames(body: str | bytes, n_frames: int, n_channels: int) -> np.ndarray | None:
-    """(n_frames, n_channels) frame values of the frame lines ``body`` (str, or ASCII bytes), read at once;
-    None unless ``body`` is exactly that many lines of that many finite numbers (blank lines aside)."""
-    breaks = [c.encode() for c in _OTHER_BREAKS] if isinstance(body, bytes) else _OTHER_BREAKS
-    if n_channels < 1 or not body.isascii() or any(body.find(c) >= 0 for c in breaks):
+def read_frames(text: str | bytes, n_frames: int, n_channels: int, start: int = 0) -> np.ndarray | None:
+    """(n_frames, n_channels) frame values of the frame lines ``text[start:]`` (str, or ASCII bytes), read at
+    once; None unless they are exactly that many lines of that many finite numbers (blank lines aside).
+    Bytes are read in place: an hour of frames is 100 MB, which a slice would copy."""
+    if n_channels < 1:
         return None
-    stream = io.BytesIO(body) if isinstance(body, bytes) else io.StringIO(body)
+    if isinstance(text, bytes):
+        if not (text.isascii() or text[start:].isascii()) or any(text.find(c.encode(), start) >= 0
+                                                                for c in _OTHER_BREAKS):
+            return None
+        stream: io.IOBase = io.BytesIO(text)  # shares the bytes
+        stream.seek(start)
+    else:
+        body = text[start:]
+        if not body.isascii() or any(body.find(c) >= 0 for c in _OTHER_BREAKS):
+            return None
+        stream = io.StringIO(body)
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # an empty block warns; it is refused below

@@ -201,7 +201,7 @@ def _parse(text: str | bytes, source: str) -> BvhData:
     motion = None
     if head is not None:
         n_frames, frame_time, n = motion_header(lines, motion_at + 1, source)
-        motion = read_frames(text[body_at:], n_frames, n_channels)
+        motion = read_frames(text, n_frames, n_channels, body_at)
         if motion is None:
             lines = _split(text)
     if motion is None:
