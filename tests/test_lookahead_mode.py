@@ -96,7 +96,7 @@ def test_settings_and_observed_durations(multi):
     takt_weight, time_weight, limits = lookahead_settings(multi.protocol)
     assert takt_weight == pytest.approx(100.0 / 38.0) and time_weight == 0.0 and limits.beam_width == 6
     parallel = api.load("multi-subject", {"execution": "parallel"}).protocol
-    assert lookahead_settings(parallel)[1] == pytest.approx(0.375 * 100.0 / 38.0)
+    assert lookahead_settings(parallel)[1] == pytest.approx(100.0 / 38.0)
     model = alloc.model
     a2, robot = model.action_index["a2"], model.agent_index["robot"]
     planned = model.duration[a2, robot]

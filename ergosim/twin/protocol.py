@@ -265,9 +265,9 @@ class LookaheadConfig:
     time_weight: float | None = None
     """Cost per second of a plan's predicted duration (its makespan, the critical path, in parallel
     execution); None: 0 in sequential execution (the paper's form: time within the takt is free on a paced
-    line) and 0.375 × ``takt_weight`` in parallel (a parallel team exists to shorten the cycle; the share
-    is chosen from the sweep in docs/allocation_modes.md:
-    ergosim.twin.lookahead_allocator.PARALLEL_TIME_SHARE)."""
+    line) and ``takt_weight`` in parallel (a parallel team exists to shorten the cycle: a second of makespan
+    costs what a second past the takt costs; ergosim.twin.lookahead_allocator.PARALLEL_TIME_SHARE, and the
+    sweep in docs/allocation_modes.md)."""
     lookahead_next: float = 1.0
     """Weight of the wear a plan leaves, priced as the next repetition would see it
     (ergosim.planner.wear_chain.next_cost); 0 ends the plan with its repetition."""
