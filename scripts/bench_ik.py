@@ -16,22 +16,19 @@ import argparse
 import itertools
 import json
 import statistics
-import subprocess
-import sys
 import time
 import types
-from pathlib import Path
 
 import numpy as np
 from scipy.spatial.transform import Rotation
 
 from ergosim.atomic import write_json
 from ergosim.human import human_spec
+from ergosim.revision import modules_at
 from ergosim.worker import StandingArea, rest_angles
 from ergosim.worker import ik as current_ik
 from ergosim.worker.ik_prior import default_prior
 
-ROOT = Path(__file__).resolve().parents[1]
 FREE = StandingArea((-0.3, 0.15), (-0.35, 0.35), (-90.0, 90.0))
 GRIP = Rotation.from_euler("xyz", [180.0, 0.0, -20.0], degrees=True).as_matrix()
 
@@ -48,17 +45,7 @@ def problems() -> list[tuple]:
 
 def solver_module(rev: str) -> types.ModuleType:
     """The IK module of git revision ``rev``, its cost and gaze modules loaded under private names."""
-    mods = {}
-    for name in ("gaze", "ik_cost", "ik"):
-        src = subprocess.run(["git", "-C", str(ROOT), "show", f"{rev}:ergosim/worker/{name}.py"], check=True,
-                             capture_output=True, text=True).stdout
-        src = src.replace("from ergosim.worker.gaze import", "from _baseline_gaze import")
-        src = src.replace("from ergosim.worker.ik_cost import", "from _baseline_ik_cost import")
-        mod = types.ModuleType(f"_baseline_{name}")
-        sys.modules[mod.__name__] = mod
-        exec(compile(src, f"{rev}:ergosim/worker/{name}.py", "exec"), mod.__dict__)  # noqa: S102
-        mods[name] = mod
-    return mods["ik"]
+    return modules_at(rev, "ergosim.worker", ("gaze", "ik_cost", "ik"))["ik"]
 
 
 def run(repeats: int, baseline: str | None) -> dict:

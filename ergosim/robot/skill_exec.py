@@ -103,20 +103,22 @@ class Skill(ABC):
         except PathError:
             return float("nan")
 
-    def planned_release(self) -> float:
-        """How long the skill would take as planned until its fingers have opened on the part it let go
-        [s] (:attr:`~ergosim.robot.skill_program.SkillProgram.release_steps`); NaN if unreachable."""
+    def planned_leave(self) -> float:
+        """How long the skill's way home would take as planned [s]: its planned time less the time until
+        its fingers have opened on the part it let go (:attr:`~ergosim.robot.skill_program.SkillProgram.
+        release_steps`; 0 if it lets nothing go); NaN if unreachable. One plan."""
         try:
             program = self.plan()
         except PathError:
             return float("nan")
-        return program.release_steps * program.dt
+        return program.planned_time - program.release_steps * program.dt
 
     @property
     def released(self) -> bool:
-        """The part is let go and the fingers have opened: what follows is the way home."""
-        done = [type(s) for s, _ in self.executed]
-        return sp.LetGo in done and sp.Open in done[done.index(sp.LetGo):]
+        """The part is let go and the fingers have opened (:attr:`~ergosim.robot.skill_program.SkillProgram.
+        release_index`): what follows is the way home. Asked every tick of a parallel run: no scan."""
+        k = None if self.program is None else self.program.release_index
+        return k is not None and len(self.executed) >= k
 
     @property
     def zone(self) -> float:

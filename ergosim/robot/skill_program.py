@@ -9,6 +9,7 @@ fingers close until they touch the part (:class:`Grasp`), and the carry is re-pl
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 from ergosim.robot.skill_motion import Motion
@@ -140,14 +141,20 @@ class SkillProgram:
         """How long the program takes as planned [s]."""
         return self.planned_steps * self.dt
 
-    @property
-    def release_steps(self) -> int:
-        """Physics steps as planned until the fingers have opened on the part let go (the part is where
-        it goes; the rest is the way home): all of them if the program lets nothing go."""
-        steps, let_go = 0, False
-        for s in self.segments:
-            steps += s.steps
+    @functools.cached_property
+    def release_index(self) -> int | None:
+        """How many segments run until the fingers have opened on the part let go (the part is where it
+        goes; the rest is the way home); None if the program lets nothing go."""
+        let_go = False
+        for k, s in enumerate(self.segments):
             let_go |= isinstance(s, LetGo)
             if let_go and isinstance(s, Open):
-                return steps
-        return self.planned_steps
+                return k + 1
+        return None
+
+    @property
+    def release_steps(self) -> int:
+        """Physics steps as planned until the part is let go (:attr:`release_index`): all of them if the
+        program lets nothing go."""
+        k = self.release_index
+        return self.planned_steps if k is None else sum(s.steps for s in self.segments[:k])

@@ -86,12 +86,10 @@ class LookaheadAllocator(Allocator):
         if cfg.team.execution == "parallel":  # the robot's way home overlaps the next actions
             for (action, agent), seconds in list(self.durations.items()):
                 if agent in robots:
-                    geom = cell.actions[action]
-                    planned = robots[agent].planned_time(geom)
-                    release = robots[agent].planned_release(geom)
-                    if math.isfinite(planned) and math.isfinite(release):
-                        self.durations[(action, agent)] = seconds - (planned - release)
-                        self.leaves[(action, agent)] = planned - release
+                    leave = robots[agent].planned_leave(cell.actions[action])
+                    if math.isfinite(leave):
+                        self.durations[(action, agent)] = seconds - leave
+                        self.leaves[(action, agent)] = leave
         self.takes = {(a, r): human_seconds.get(a, 0.0) for a, agents in self.allowed.items()
                       if cell.actions[a].handover is not None for r in agents if r in self.robots}
         self.unreachable = {(a, r) for a, agents in self.allowed.items() for r in agents

@@ -78,10 +78,10 @@ class RobotTrack:
         NaN if unreachable); nothing moves."""
         return self.skill_for(geom).planned_time()
 
-    def planned_release(self, geom) -> float:
-        """The robot's expected time for ``geom`` until it has let the part go [s] (the way home after it
-        left out; NaN if unreachable); nothing moves."""
-        return self.skill_for(geom).planned_release()
+    def planned_leave(self, geom) -> float:
+        """The robot's expected way home for ``geom`` after it has let the part go [s] (NaN if unreachable);
+        nothing moves."""
+        return self.skill_for(geom).planned_leave()
 
     @property
     def released(self) -> bool:
