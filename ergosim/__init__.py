@@ -8,6 +8,10 @@ a kinematic human.
 
 __version__ = "0.1.0"
 
+from ergosim.blas_kernel import pin as _pin_blas_kernel  # noqa: E402
+
+_pin_blas_kernel()  # before anything imports numpy: the same bits on every x86-64 machine (blas_kernel.py)
+
 import logging  # noqa: E402
 
 logging.getLogger("ergosim").addHandler(logging.NullHandler())  # a library: the application decides

@@ -21,7 +21,7 @@ PACKAGE = ROOT / "ergosim"
 LAYERS: tuple[tuple[str, ...], ...] = (
     # 0 foundation: errors, file writing, registries, parsing helpers, logging
     ("__init__", "errors", "atomic", "registry", "plugins", "logs", "overrides", "posture", "progress",
-     "exports", "quat", "machine", "held_signals", "g9_csv", "revision"),
+     "exports", "quat", "machine", "held_signals", "g9_csv", "revision", "blas_kernel"),
     # 1 the models: body, risk, robot, worker motion, task planning, workcells
     ("human", "ergonomics", "robot", "worker", "planner", "scenes"),
     # 2 the simulation: loop, sessions, allocators, tracks
