@@ -197,11 +197,12 @@ def _session(scenario: Scenario, index: int, subject: Subject, mode: str, rng: n
                         rng=rng, human_seconds=human_seconds)
 
 
-def calibrate_subject(scenario: Scenario, index: int, seed: int):
+def calibrate_subject(scenario: Scenario, index: int, seed: int, subject: Subject | None = None):
     """Subject ``index`` of ``seed``'s population calibrated in the scenario's workcell, as its run does
     (§5, from child 0 of ``SeedSequence([seed, index])``): (subject, calibration, the worker's expected
-    seconds per action)."""
-    subject = scenario_subject(scenario, index, seed)
+    seconds per action). ``subject``: that subject with some fields changed (a what-if, e.g. its
+    trial-to-trial variability), calibrated on the same random stream; default the subject as drawn."""
+    subject = scenario_subject(scenario, index, seed) if subject is None else subject
     rng = np.random.default_rng(np.random.SeedSequence([seed, index]).spawn(2)[0])
     calibration, _, _, seconds = _calibrate(scenario, subject, rng)
     return subject, calibration, seconds

@@ -14,7 +14,6 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
-from scipy import stats
 
 from ergosim.experiment.calibration_summary import calibration_summary
 from ergosim.experiment.subject_records import SubjectRecord
@@ -108,6 +107,8 @@ def wilcoxon_between(a: Sequence[float], b: Sequence[float], metric: str) -> dic
         return {"metric": metric, "statistic": None, "p": None, "n": int(x.size)}
     if np.all(x == y):
         return {"metric": metric, "statistic": 0.0, "p": 1.0, "n": int(x.size)}
+    from scipy import stats  # noqa: PLC0415 - 1.2 s of start-up that runs of one mode never need
+
     res = stats.wilcoxon(x, y)
     return {"metric": metric, "statistic": _finite(res.statistic), "p": _finite(res.pvalue), "n": int(x.size)}
 
