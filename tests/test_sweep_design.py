@@ -280,6 +280,18 @@ def test_units_are_tied_to_the_code_that_planned_them(tmp_path, monkeypatch):
     assert doc["status"] == "failed" and "runs other code" in doc["error"] and doc["metrics"] == {}
 
 
+def test_the_fingerprint_covers_the_blas_kernel(monkeypatch):
+    """Two BLAS kernels round the worker's IK differently (ergosim/blas_kernel.py): a cluster node whose
+    numpy runs another kernel runs other code."""
+    ours = code_fingerprint()
+    monkeypatch.setattr("ergosim.sweep.fingerprint.kernel", lambda: "SkylakeX")
+    code_fingerprint.cache_clear()
+    try:
+        assert code_fingerprint() != ours
+    finally:
+        code_fingerprint.cache_clear()  # the next call, after the patch is undone, is this process's own
+
+
 # -- issue 27: a [zip] is one factor with named levels ------------------------------------------------------
 LAYOUTS = """
     scenario = "multi-subject"

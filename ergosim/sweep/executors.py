@@ -166,6 +166,8 @@ class RayExecutor(Executor):
         if not ray.is_initialized():
             kwargs: dict[str, Any] = {"include_dashboard": False, "logging_level": logging.ERROR,
                                       "log_to_driver": False}
+            if "OPENBLAS_CORETYPE" in os.environ:  # the cluster's workers run numpy on this BLAS kernel too
+                kwargs["runtime_env"] = {"env_vars": {"OPENBLAS_CORETYPE": os.environ["OPENBLAS_CORETYPE"]}}
             if address:
                 _reachable(address)
                 kwargs["address"] = address

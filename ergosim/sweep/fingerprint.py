@@ -15,6 +15,7 @@ from importlib import metadata
 from pathlib import Path
 
 import ergosim
+from ergosim.blas_kernel import kernel
 
 __all__ = ["code_fingerprint", "FINGERPRINT_DISTRIBUTIONS"]
 
@@ -25,12 +26,15 @@ FINGERPRINT_DISTRIBUTIONS = ("mujoco", "numpy", "scipy", "pin", "example-robot-d
 @functools.cache
 def code_fingerprint() -> str:
     """16 hex digits of the SHA-256 of every ``.py`` file of the ergosim package (path and bytes, in path
-    order) and the versions of :data:`FINGERPRINT_DISTRIBUTIONS`; computed once per process."""
+    order), the versions of :data:`FINGERPRINT_DISTRIBUTIONS` and the BLAS kernel numpy runs
+    (:mod:`ergosim.blas_kernel`: two kernels round the worker's IK differently); computed once per
+    process. The bundled scenarios, workcells and tasks enter a unit's id as the resolved scenario."""
     root = Path(ergosim.__file__).resolve().parent
     h = hashlib.sha256()
     for path in sorted(p for p in root.rglob("*.py") if "__pycache__" not in p.parts):
         h.update(path.relative_to(root).as_posix().encode("utf-8") + b"\0")
         h.update(path.read_bytes())
+    h.update(f"blas=={kernel()}\0".encode())
     for dist in FINGERPRINT_DISTRIBUTIONS:
         try:
             version = metadata.version(dist)
