@@ -32,4 +32,6 @@ def test_without_suit_error_or_variability_two_executions_are_the_same():
     assert all(err == [0.0] for err in row.max_error.values()), row.max_error
     sc = load_scenario("multi-subject")
     _, cal, _ = calibrate_subject(sc, 0, 0)
-    assert {a: c.eta for a, c in cal["rula"].actions.items()} != row.eta  # the default subject's suit does
+    eta = {a: c.eta for a, c in cal["rula"].actions.items()}
+    assert eta != row.eta  # the default subject's suit and variability tell executions apart
+    assert max(eta.values()) == PAPER_ETA == sc.protocol.calibration.eta_max  # as §7.2's subjects, 3 at most

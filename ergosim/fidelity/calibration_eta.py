@@ -25,10 +25,14 @@ import numpy as np
 from ergosim.experiment.runner import calibrate_subject, scenario_subject
 from ergosim.experiment.scenario import load_scenario
 
-__all__ = ["EtaRow", "eta_scan", "allowed_band", "PAPER_ETA"]
+__all__ = ["EtaRow", "eta_scan", "allowed_band", "PAPER_ETA", "SCAN_ETA_MAX"]
 
 PAPER_ETA = 3
 """§7.2: the executions per action that ensured Ṽ < Ṽ_des (with η0 = 2)."""
+
+SCAN_ETA_MAX = 10
+"""The scan lets the procedure run to the protocol's default η_max, not the §7.2 scenario's cap of 3 (the
+subjects' three executions): whether it would stop by η = 3 on its own is the question."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -61,7 +65,7 @@ def eta_scan(levers: Sequence[tuple[float, float]], seeds: Sequence[int], scenar
     factor) of ``levers``."""
     rows = []
     for noise, variability in levers:
-        sc = load_scenario(scenario, {"noise_scale": repr(float(noise))})
+        sc = load_scenario(scenario, {"noise_scale": repr(float(noise)), "eta_max": str(SCAN_ETA_MAX)})
         eta: dict[str, list[int]] = {}
         err: dict[str, list[float]] = {}
         for seed in seeds:
