@@ -66,6 +66,12 @@ class SharedRun(NamedTuple):
     code: int
 
 
+KV_SHORT = ("--set", "eta_max=2")
+"""The §7.1 cell's calibration shortened to two executions per action (its default of ten makes a
+one-repetition run mostly calibration): for the shared runs whose readers check the loop, the files and the
+pictures, not α."""
+
+
 def _session_dir(tmp_path_factory) -> Path:
     """A folder every worker of this pytest session sees (xdist gives each worker a base temp dir inside
     the session's own)."""
@@ -90,9 +96,10 @@ def shared_run(tmp_path_factory, name: str, args: Sequence[str], *, rrd: bool = 
 
 @pytest.fixture(scope="session")
 def kv_run(tmp_path_factory) -> SharedRun:
-    """The §7.1 cell, 1 subject, 1 repetition, hrc, seed 0, recorded (the recording changes no output)."""
+    """The §7.1 cell, 1 subject, 1 repetition, hrc, seed 0, recorded (the recording changes no output);
+    calibrated on two executions per action (:data:`KV_SHORT`)."""
     return shared_run(tmp_path_factory, "kv", ["kwear-validation", "--reps", "1", "--mode", "hrc",
-                                               "--jobs", "1", "--quiet"], rrd=True)
+                                               "--jobs", "1", "--quiet", *KV_SHORT], rrd=True)
 
 
 @pytest.fixture(scope="session")
@@ -101,7 +108,8 @@ def kv_two_subjects(tmp_path_factory) -> SharedRun:
     subject 1 alone in the timelines."""
     return shared_run(tmp_path_factory, "kv2", ["kwear-validation", "--subjects", "2", "--reps", "1",
                                                 "--jobs", "1", "--quiet", "--rrd-subject", "1",
-                                                "--rrd-mode", "rula", "--plot-subject", "1"], rrd=True)
+                                                "--rrd-mode", "rula", "--plot-subject", "1", *KV_SHORT],
+                      rrd=True)
 
 
 @pytest.fixture(scope="session")

@@ -33,7 +33,9 @@ from ergosim.worker.bvh_parse import parse_bvh_text
 
 ROOT = Path(__file__).resolve().parents[1]
 BVH = ROOT / "tests" / "data" / "reach_overhead.bvh"
-KV = ["run", "kwear-validation", "--reps", "1", "--mode", "hrc", "--jobs", "1", "--quiet"]
+# a short calibration (two executions per action): these tests are about inputs, signals and files, not α
+KV = ["run", "kwear-validation", "--reps", "1", "--mode", "hrc", "--jobs", "1", "--quiet",
+      "--set", "eta_max=2"]
 
 
 def _one_line_error(capsys, code: int, *needles: str) -> str:

@@ -11,6 +11,7 @@ from pathlib import Path
 import matplotlib.image
 import numpy as np
 import pytest
+from conftest import KV_SHORT
 
 from ergosim.cli import main
 from ergosim.experiment.csv_files import SUBJECT_COLUMNS
@@ -168,7 +169,7 @@ def test_no_plots_writes_the_same_files_and_plot_draws_the_figures_later(kv_run,
     (tests/conftest.py), made with the same arguments and plots (its recording changes no output)."""
     out = tmp_path / "out"
     assert main(["run", "kwear-validation", "--reps", "1", "--mode", "hrc", "--jobs", "1", "--quiet",
-                 "--no-plots", "--out", str(out)]) == 0
+                 *KV_SHORT, "--no-plots", "--out", str(out)]) == 0
     assert "kwear_state_*.json)" in capsys.readouterr().out  # the results line lists no *.png
     pngs = sorted(p.name for p in kv_run.out.glob("*.png"))
     assert len(pngs) >= 3 and not list(out.glob("*.png"))

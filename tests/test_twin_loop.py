@@ -13,6 +13,7 @@ import sys
 
 import numpy as np
 import pytest
+from conftest import KV_SHORT
 
 from ergosim.cli import main
 from ergosim.experiment.runner import run_subject
@@ -134,8 +135,7 @@ def test_same_seed_same_results_serial_or_parallel(kv_two_subjects, tmp_path):
     a, b = kv_two_subjects.out, tmp_path / "parallel"
     assert kv_two_subjects.code == 0
     assert main(["run", "kwear-validation", "--subjects", "2", "--reps", "1", "--jobs", "2", "--quiet",
-                 "--no-plots",
-                 "--out", str(b)]) == 0
+                 "--no-plots", *KV_SHORT, "--out", str(b)]) == 0
     for name in ("summary.json", "allocations.csv", "ticks.csv"):
         assert (a / name).read_bytes() == (b / name).read_bytes(), name
     summary = json.loads((a / "summary.json").read_text())

@@ -19,6 +19,7 @@ import matplotlib.image
 import mujoco
 import numpy as np
 import pytest
+from conftest import KV_SHORT
 
 from ergosim.cli import main
 from ergosim.errors import ConfigError
@@ -213,8 +214,9 @@ def test_reps_and_size_are_parsed_and_checked():
 
 
 def _run(out: Path, *extra: str) -> int:
+    """The shared run's arguments (tests/conftest.py) with ``extra``."""
     return main(["run", "kwear-validation", "--reps", "1", "--mode", "hrc", "--jobs", "1", "--quiet",
-                 "--out", str(out), *extra])
+                 *KV_SHORT, "--out", str(out), *extra])
 
 
 @pytest.mark.slow
@@ -272,7 +274,8 @@ def test_sigterm_while_filming_keeps_the_results_and_leaves_no_partial_video(tmp
     out, video = tmp_path / "out", tmp_path / "run.mp4"
     env = {**os.environ, "MUJOCO_GL": "egl"}
     cmd = [sys.executable, "-m", "ergosim.cli", "run", "kwear-validation", "--reps", "1", "--mode", "hrc",
-           "--jobs", "1", "--quiet", "--out", str(out), "--video", str(video), "--video-speed", "0.25"]
+           "--jobs", "1", "--quiet", *KV_SHORT, "--out", str(out), "--video", str(video), "--video-speed",
+           "0.25"]
     proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + 300
     while time.monotonic() < deadline:  # the results are written before the first frame

@@ -20,7 +20,7 @@ from ergosim.video import frames as frames_module  # noqa: E402
 
 @pytest.fixture(scope="module")
 def recorded():
-    sc = load_scenario("kwear-validation", {"repetitions": "1", "modes": "hrc"})
+    sc = load_scenario("kwear-validation", {"repetitions": "1", "modes": "hrc", "eta_max": "2"})
     res = run_subject(sc, 0, 0, ("hrc",), record_mode="hrc")
     return res.runs["hrc"], subject_cell(sc, scenario_subject(sc, 0, 0))
 
@@ -54,7 +54,7 @@ def test_forked_workers_write_the_same_mp4_as_one_process(tmp_path):
         from ergosim.experiment.scenario import load_scenario
         from ergosim.video import frames
         from ergosim.video.benchmark import compare_workers
-        sc = load_scenario("kwear-validation", {{"repetitions": "1", "modes": "hrc"}})
+        sc = load_scenario("kwear-validation", {{"repetitions": "1", "modes": "hrc", "eta_max": "2"}})
         run = run_subject(sc, 0, 0, ("hrc",), record_mode="hrc").runs["hrc"]
         cell = subject_cell(sc, scenario_subject(sc, 0, 0))
         a = next(x for x in run.allocations if x.agent == "human")

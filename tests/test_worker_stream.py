@@ -91,3 +91,19 @@ def test_subjects_are_seeded_and_varied():
     assert len({s.speed for s in a}) == 12 and len({s.trunk_use for s in a}) == 12
     assert make_subject(np.random.default_rng(0), stature=1.62).stature == 1.62
     assert Subject("x").spec().compile().nq == 22 + 4 + 6  # posture, stance, the joints following the knee
+
+
+def test_the_drifting_bias_is_lfilters_first_order_recursion_bit_for_bit():
+    """The OU bias recursion written frame by frame (ergosim.worker.stream._ou_bias) gives the bits of
+    scipy.signal.lfilter, which the stream used before (its import cost every process two seconds)."""
+    from scipy.signal import lfilter  # noqa: PLC0415
+
+    from ergosim.worker.stream import _ou_bias  # noqa: PLC0415
+
+    rng = np.random.default_rng(11)
+    for n in (0, 1, 2, 37, 900):
+        a = float(np.exp(-1.0 / (60.0 * rng.uniform(1.0, 100.0))))
+        last = rng.normal(0.0, 2.0, 22)
+        w = rng.normal(0.0, rng.uniform(1e-3, 1.0), (n, 22))
+        ref, _ = lfilter([1.0], [1.0, -a], w, axis=0, zi=(a * last)[None, :])
+        assert _ou_bias(w, a, last).tobytes() == ref.tobytes(), n

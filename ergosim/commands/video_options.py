@@ -37,14 +37,15 @@ def add_video_arguments(p: argparse.ArgumentParser, modes: tuple[str, ...]) -> N
 def video_request(args: argparse.Namespace, scenario):
     """The checked :class:`~ergosim.video.VideoRequest` of the parsed ``args`` for ``scenario``, or None
     without --video."""
-    from ergosim.video.run_video import VideoRequest, parse_reps, parse_size  # noqa: PLC0415
-
     if args.video is None:
         given = [f for f in _FLAGS if getattr(args, f) is not None]
         if given:
             flag = "--" + given[0].replace("_", "-")
             raise ConfigError("choose what the video shows: give --video FILE.mp4 as well", where=flag)
         return None
+    # only a filmed run imports the video (and with it rerun and matplotlib: 0.7 s of start-up)
+    from ergosim.video.run_video import VideoRequest, parse_reps, parse_size  # noqa: PLC0415
+
     cfg = scenario.protocol
     path = Path(args.video)
     if path.suffix.lower() != ".mp4":

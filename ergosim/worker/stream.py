@@ -72,11 +72,7 @@ class MocapStream:
             a = np.exp(-1.0 / (self.rate * self.bias_tau))
             sigma = self.noise_scale * self.subject.bias_deg
             w = self.rng.normal(0.0, sigma * np.sqrt(1.0 - a * a), angles.shape)
-            # the recursion as a first-order IIR filter over the frames, continuing from the last bias
-            # (scipy.signal imported here: it costs a second at start-up to processes that never filter)
-            from scipy.signal import lfilter  # noqa: PLC0415
-
-            bias, _ = lfilter([1.0], [1.0, -a], w, axis=0, zi=(a * self.bias)[None, :])
+            bias = _ou_bias(w, a, self.bias)
             if n:
                 self.bias = bias[-1].copy()
             out += bias + self.rng.normal(0.0, self.noise_scale * self.subject.noise_deg, angles.shape)
@@ -96,6 +92,17 @@ class MocapStream:
         self.frames += n
         self.dropouts += int((~valid).sum())
         return MocapFrames(t, out, valid)
+
+
+def _ou_bias(w: np.ndarray, a: float, last: np.ndarray) -> np.ndarray:
+    """(n, 22) bias of the frames: b_k = w_k + a b_(k-1) from ``last``, the first-order recursion frame by
+    frame. The same bits as scipy.signal.lfilter([1], [1, -a], w, axis=0, zi=a * last), whose import costs
+    every process two seconds (tests/test_worker_stream.py)."""
+    out = np.empty_like(w)
+    prev = last
+    for k in range(len(w)):
+        prev = out[k] = w[k] + a * prev
+    return out
 
 
 class MotionPlayback:
