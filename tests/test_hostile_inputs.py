@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import KV_SHORT
 
 from ergosim.cli import main
 from ergosim.errors import ConfigError, InfeasiblePlanError, TaskFileError
@@ -33,9 +34,8 @@ from ergosim.worker.bvh_parse import parse_bvh_text
 
 ROOT = Path(__file__).resolve().parents[1]
 BVH = ROOT / "tests" / "data" / "reach_overhead.bvh"
-# a short calibration (two executions per action): these tests are about inputs, signals and files, not α
-KV = ["run", "kwear-validation", "--reps", "1", "--mode", "hrc", "--jobs", "1", "--quiet",
-      "--set", "eta_max=2"]
+# a short calibration (KV_SHORT): these tests are about inputs, signals and files, not α
+KV = ["run", "kwear-validation", "--reps", "1", "--mode", "hrc", "--jobs", "1", "--quiet", *KV_SHORT]
 
 
 def _one_line_error(capsys, code: int, *needles: str) -> str:
