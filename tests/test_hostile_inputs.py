@@ -227,13 +227,17 @@ def test_a_run_removes_what_an_earlier_run_left_and_keeps_other_files(tmp_path):
 def test_interrupting_a_run_over_an_earlier_complete_one_leaves_no_stale_complete_summary(tmp_path):
     out = tmp_path / "o"
     _earlier_run(out)
-    proc = subprocess.Popen([sys.executable, "-m", "ergosim.cli", *KV, "--out", str(out)],
+    # the full calibration and three repetitions: long enough that the signal lands before the first
+    # subject ends (KV's short run could finish between "running" and the signal on a fast machine)
+    long_run = ["run", "kwear-validation", "--reps", "3", "--mode", "hrc", "--jobs", "1", "--quiet"]
+    proc = subprocess.Popen([sys.executable, "-m", "ergosim.cli", *long_run, "--out", str(out)],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             env={**os.environ, "MUJOCO_GL": "egl"})
     deadline = time.monotonic() + 60
     while not (out / "run.json").exists() or "running" not in (out / "run.json").read_text():
         assert time.monotonic() < deadline and proc.poll() is None
         time.sleep(0.05)
+    assert proc.poll() is None, "the run ended before the signal: the test proves nothing"
     proc.send_signal(signal.SIGINT)
     _, err = proc.communicate(timeout=120)
     assert proc.returncode == 130, err
