@@ -4,7 +4,7 @@ Found with a user's own variant of the §7.2 cell in which the robot places and 
 (no hand-over poses): in parallel execution the robot bringing J to the assembly area stops under speed and
 separation monitoring next to the idle worker, who keeps its posture; at HEAD the run never ended (a
 12 × 10 team study ran for over half an hour before it was stopped). Now the repetition is abandoned after
-:data:`~ergosim.twin.team_session.STANDOFF_TIMEOUT` with a message that says where and why.
+:data:`~ergosim.twin.standoff.STANDOFF_TIMEOUT` with a message that says where and why.
 """
 
 from __future__ import annotations
@@ -17,19 +17,19 @@ import numpy as np
 import pytest
 
 from ergosim.cli import main
-from ergosim.twin.team_session import STANDOFF_TIMEOUT, TeamSession
+from ergosim.twin.standoff import STANDOFF_TIMEOUT, StandoffWatch
 
 ROOT = Path(__file__).resolve().parents[1]
 DT = 1.0 / 60.0
 
 
 def _fake_team(worker_job=None, speed=0.0, moving=True, state="moving"):
-    """The attributes :meth:`TeamSession._standoff` reads: one robot job, the plant's clock."""
+    """What :meth:`StandoffWatch.check` reads: the worker's job, one robot job, the plant's clock."""
     data = SimpleNamespace(site_xpos=np.array([[0.1, 0.2, 1.0]]))
     cell = SimpleNamespace(data=data, robot=lambda name: SimpleNamespace(tcp=0))
     track = SimpleNamespace(moving=moving, speed=speed, cell=cell)
     job = SimpleNamespace(agent="robot", track=track, state=state, geom=SimpleNamespace(action="a1"))
-    return SimpleNamespace(worker_job=worker_job, robot_jobs={"robot": job}, _stopped={},
+    return SimpleNamespace(worker_job=worker_job, robot_jobs={"robot": job}, watch=StandoffWatch(),
                            plant=SimpleNamespace(ticks=0, dt_control=DT))
 
 
@@ -37,7 +37,7 @@ def _run_for(team, seconds: float):
     why = None
     for _ in range(int(round(seconds / DT))):
         team.plant.ticks += 1
-        why = TeamSession._standoff(team)
+        why = team.watch.check(team.plant, team.worker_job is None, team.robot_jobs.values())
         if why is not None:
             return why, team.plant.ticks * DT
     return why, None

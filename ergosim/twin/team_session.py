@@ -29,6 +29,7 @@ from ergosim.twin.modes import get_mode
 from ergosim.twin.records import Failure
 from ergosim.twin.robot_track import RobotGroup, RobotTrack
 from ergosim.twin.session import _ACTION_TIMEOUT, _HUMAN_ATTEMPTS, Outcome, Session, _reason
+from ergosim.twin.standoff import StandoffWatch
 from ergosim.twin.team_allocator import Busy, TeamAllocator
 from ergosim.twin.team_board import TeamBoard
 
@@ -36,10 +37,6 @@ __all__ = ["TeamSession", "handover_early"]
 
 _WORKER_SETTLE = 0.5  # s a part the worker released may take to come to rest (as the sequential session)
 _ROBOT_SETTLE = 1.0
-STANDOFF_TIMEOUT = 10.0
-"""s a robot may stay in a protective stop while the worker is idle before the repetition is abandoned as a
-standoff (assumed: the twin's idle worker does not step aside, so nothing changes after that; ten times the
-longest settle of a released part)."""
 
 
 @dataclasses.dataclass
@@ -89,8 +86,6 @@ class TeamSession(Session):
         self._ids = count()
         self.worker_job: _Job | None = None
         self.robot_jobs: dict[str, _Job] = {}
-        self._stopped: dict[str, int] = {}
-        """robot -> the control tick since which it has been in a protective stop with the worker idle."""
 
     # -- one repetition --------------------------------------------------------------------------------------
     def _repetition_steps(self, rep: int):
@@ -105,6 +100,7 @@ class TeamSession(Session):
         self._attempts: dict[str, int] = {}
         self._order = 0
         self._dirty = True
+        self._standoff = StandoffWatch()
         while True:
             if self._dirty:
                 self._dirty = False
@@ -114,7 +110,7 @@ class TeamSession(Session):
                     return True
             self.plant.step()
             self._poll()
-            why = self._standoff()
+            why = self._standoff.check(self.plant, self.worker_job is None, self.robot_jobs.values())
             if why is not None:
                 self._end_standoff(rep, why)
                 return False
@@ -292,33 +288,6 @@ class TeamSession(Session):
                 self._robot_outcome(job, Outcome(False, "not_completed", job.t0, plant.time, why))
 
     # -- a standoff ------------------------------------------------------------------------------------------
-    def _standoff(self) -> str | None:
-        """Why the team can no longer move, or None: a robot held in a protective stop by speed and
-        separation monitoring (ISO/TS 15066 §5.5.4) for :data:`STANDOFF_TIMEOUT` while the worker is idle.
-        The idle worker keeps its posture, so the robot would wait for good (a place into the worker's
-        reach, or the way home past the worker's hands); a hand-over never stops (it goes on at the contact
-        speed, :mod:`ergosim.twin.ssm_monitor`)."""
-        if self.worker_job is not None:
-            self._stopped.clear()
-            return None
-        plant = self.plant
-        for job in self.robot_jobs.values():
-            track = job.track
-            if not (track.moving and track.speed <= 0.0):
-                self._stopped.pop(job.agent, None)
-                continue
-            since = self._stopped.setdefault(job.agent, plant.ticks)
-            if (plant.ticks - since) * plant.dt_control >= STANDOFF_TIMEOUT:
-                tcp = track.cell.data.site_xpos[track.cell.robot(job.agent).tcp]
-                doing = "on its way home after " if job.state == "homing" else "doing "
-                where = np.round(tcp, 3).tolist()
-                return (f"standoff: {job.agent}, {doing}{job.geom.action}, has been in a protective stop "
-                        f"for {STANDOFF_TIMEOUT:.0f} s with its TCP at {where} (speed and separation "
-                        "monitoring, ISO/TS 15066) while the idle worker stays within the "
-                        "protective separation distance; move the action's target or the robot away from "
-                        "where the worker stands, or set ssm = \"off\"")
-        return None
-
     def _end_standoff(self, rep: int, why: str) -> None:
         """The repetition ends in a standoff: every robot job whose action is not recorded yet fails
         (``standoff``), then the repetition is abandoned with ``why``."""
