@@ -34,10 +34,14 @@ frame (the cell's worker position and facing), and how far the knees bend. RULA 
 comes with every motion beside the posture, as a suit's pelvis position and knee angles do.
 
 =====================  =============================================================================
-pelvis_x               [m] forward step of the pelvis from the worker's position
+pelvis_x               [m] forward step of the stance (the feet, and the pelvis above them when the legs are
+                       straight) from the worker's position
 pelvis_y               [m] step to the left
 pelvis_rotation        [deg] the whole body turned to the left (feet, pelvis and all above)
-knee_flexion           [deg] both knees, 0 = straight; the pelvis lowers so that the feet stay flat
+knee_flexion           [deg] both knees, 0 = straight
+ankle_dorsiflexion     [deg] both shanks leaning forward over the flat feet; negative leans them back, which
+                       moves the hips back behind the feet (a stoop); with the knees it sets where the
+                       pelvis is (:mod:`ergosim.human.legs`)
 =====================  =============================================================================
 """
 
@@ -82,8 +86,9 @@ LEFT_ARM: tuple[str, ...] = tuple(f"left_{n}" for n in ARM)
 HUMAN_JOINTS: tuple[str, ...] = ANGLE_NAMES + LEFT_ARM
 """Every posture hinge of the kinematic human, in this order (22)."""
 
-STANCE: tuple[str, ...] = ("pelvis_x", "pelvis_y", "pelvis_rotation", "knee_flexion")
-"""How the worker stands (4): pelvis step [m, m], turn [deg], knee flexion [deg]."""
+STANCE: tuple[str, ...] = ("pelvis_x", "pelvis_y", "pelvis_rotation", "knee_flexion", "ankle_dorsiflexion")
+"""How the worker stands (5): where the feet stand [m, m], the body's turn [deg], knee flexion and the shanks'
+lean over the feet [deg]."""
 
 KWEAR_JOINTS = ("shoulder", "elbow", "wrist", "trunk", "neck")
 """Monitored joints i of the Kinematic Wear index (paper eq. 3), in the order of every (m,) array."""

@@ -51,7 +51,7 @@ def test_structure(human):
     names = {model.joint(i).name for i in range(model.njnt)}
     driven = {j.name for j in DRIVEN_SPECS}
     assert names == set(HUMAN_JOINTS) | set(STANCE) | driven
-    slides = {"pelvis_x", "pelvis_y", "pelvis_drop"}
+    slides = {"pelvis_x", "pelvis_y", "pelvis_shift", "pelvis_drop"}
     for i in range(model.njnt):
         kind = mujoco.mjtJoint.mjJNT_SLIDE if model.joint(i).name in slides else mujoco.mjtJoint.mjJNT_HINGE
         assert model.jnt_type[i] == kind

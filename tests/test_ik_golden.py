@@ -1,12 +1,11 @@
 """The whole-body IK's numbers, bit for bit: a fixed set of solves against golden values.
 
-The solver is rewritten for speed from time to time (issue 28) with the promise that every output stays
-bit-identical; these solves cover its paths (planted and free stance, the turned start and the planted
-retry, a 6-D target, a gaze beyond the eyes, bent knees, a bound that freezes a joint, a target out of
-reach). A change in any floating-point operation of the solve changes one of these digests. The golden
-values come from the solver as of issue 23 on numpy's bundled OpenBLAS: a different BLAS kernel may round
-the small matrix products differently, in which case regenerate them with ``_print_golden`` only after
-checking that the solver itself did not change.
+The solver may be rewritten for speed with the promise that every output stays bit-identical; these solves
+cover its paths (a stance on the spot, stepped and turned, a 6-D target, a gaze beyond the eyes, a squat,
+a target out of reach, furniture in the way). A change in any floating-point operation of the solve changes
+one of these digests. The golden values come from the mink solver of the stance-first worker on numpy's
+bundled OpenBLAS: a different BLAS kernel may round the small matrix products differently, in which case
+regenerate them with ``_print_golden`` only after checking that the solver itself did not change.
 """
 
 from __future__ import annotations
@@ -18,38 +17,42 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from ergosim.human import human_spec
-from ergosim.worker import StandingArea, WholeBodyIK, rest_angles
-from ergosim.worker.ik_prior import default_prior
+from ergosim.worker import WholeBodyIK, rest_angles
+from ergosim.worker.ik_prior import default_prior, squat_prior
+from ergosim.worker.obstacles import ik_model
 
-FREE = StandingArea((-0.3, 0.15), (-0.35, 0.35), (-90.0, 90.0))
 ROT = Rotation.from_euler("xyz", [170.0, 10.0, -30.0], degrees=True).as_matrix()
-PROBLEMS = {  # name: (side, target [m], target_rot, gaze point [m] or None, area, max_iter)
-    "reach": ("right", (0.45, -0.2, 1.0), None, None, None, None),
-    "grip_6d": ("right", (0.35, -0.25, 0.75), ROT, None, None, 40),
-    "gaze_aside": ("left", (0.4, 0.3, 1.2), None, (0.3, 1.2, 1.7), None, None),
-    "step_aside": ("right", (0.2, -0.7, 0.9), None, None, FREE, None),
-    "behind": ("right", (-0.35, -0.55, 0.95), None, None, FREE, None),
-    "low": ("right", (0.45, -0.05, 0.2), None, None, FREE, None),
-    "out_of_reach": ("right", (1.3, -0.1, 1.1), None, None, None, None),
-    "grip_6d_free": ("right", (0.5, 0.1, 0.9), ROT, (0.6, 0.0, 0.8), FREE, 25),
+BENCH = (np.array([0.62, 0.0, 0.88]), np.array([0.32, 0.5, 0.02]), 0.0)
+PROBLEMS = {  # name: (side, target [m], target_rot, gaze point [m] or None, stance (x, y, turn), squat, max_iter)
+    "reach": ("right", (0.45, -0.2, 1.0), None, None, (0.0, 0.0, 0.0), False, None),
+    "grip_6d": ("right", (0.35, -0.25, 0.75), ROT, None, (0.0, 0.0, 0.0), False, 40),
+    "gaze_aside": ("left", (0.4, 0.3, 1.2), None, (0.3, 1.2, 1.7), (0.0, 0.0, 0.0), False, None),
+    "step_aside": ("right", (0.2, -0.7, 0.9), None, None, (0.05, -0.3, -70.0), False, None),
+    "behind": ("right", (-0.35, -0.55, 0.95), None, None, (0.0, -0.1, -90.0), False, None),
+    "low": ("right", (0.45, -0.05, 0.2), None, None, (0.1, 0.0, 0.0), True, None),
+    "out_of_reach": ("right", (1.3, -0.1, 1.1), None, None, (0.0, 0.0, 0.0), False, None),
+    "grip_6d_turned": ("right", (0.5, 0.1, 0.9), ROT, (0.6, 0.0, 0.8), (0.0, 0.0, 20.0), False, 25),
+    "over_the_bench": ("right", (0.6, -0.25, 0.92), None, None, (0.1, 0.0, 0.0), False, None),
 }
 GOLDEN = {  # (iterations, pos_error, rot_error_deg, cost, digest of the body): _print_golden's output
     'behind':
-        (47, '0x1.1f6b67bc4b76bp-16', '0x0.0p+0', '0x1.3470816f51354p+3', '67f353a38c6a8e38'),
+        (9, '0x1.53ca0e87bd786p-17', '0x0.0p+0', '0x1.31db593797320p+1', '579dbbc9216cb932'),
     'gaze_aside':
-        (16, '0x1.77821d455b186p-17', '0x0.0p+0', '0x1.66a20ebe156ebp+2', 'aac4487f6dd63c1b'),
+        (25, '0x1.fece19f4e5c43p-17', '0x0.0p+0', '0x1.65122831d29e4p+2', '135f3ed38580ad97'),
     'grip_6d':
-        (20, '0x1.1ed1cdd0d3cbdp-12', '0x1.02c1738a9be9dp+0', '0x1.e5eeb0fb64c60p+5', 'e99de55eb3642fa7'),
-    'grip_6d_free':
-        (24, '0x1.94e7dccf6144bp-14', '0x1.1c60219e21c21p-1', '0x1.1006a889266f6p+5', 'a6ab791393779904'),
+        (28, '0x1.18d9c6f121f52p-11', '0x1.1fb7117d1d838p+1', '0x1.032a62871b605p+6', 'fbc615da3c15372d'),
+    'grip_6d_turned':
+        (25, '0x1.5bc06fbca08aep-13', '0x1.95a42233370acp-1', '0x1.3e1ec0085f7dfp+5', 'd37604d03c9cdbe3'),
     'low':
-        (17, '0x1.58d557fc2ec3ep-14', '0x0.0p+0', '0x1.7950da66a2642p+4', '0fbda8f370902c46'),
+        (30, '0x1.6f423516364cap-12', '0x0.0p+0', '0x1.2457bfdb481eap+4', '75f9ef117cee92b5'),
     'out_of_reach':
-        (46, '0x1.e77421d62f7bdp-5', '0x0.0p+0', '0x1.fbab6c9535260p+6', 'f249ce3858cb2f7e'),
+        (60, '0x1.518727bc2ce39p-5', '0x0.0p+0', '0x1.05a5b7a595ba0p+7', '7e7c066f6b0a4145'),
+    'over_the_bench':
+        (8, '0x1.6bbfe0bc45778p-17', '0x0.0p+0', '0x1.d0ee1c65799c4p+0', '39ac5471735aba4b'),
     'reach':
-        (29, '0x1.12a0059e8521bp-18', '0x0.0p+0', '0x1.5aca7ee304ee7p+1', '05e74baa0850bf68'),
+        (10, '0x1.38b14fa3ffec8p-18', '0x0.0p+0', '0x1.a8dba8d8d9c92p+0', '865e325a903d70b0'),
     'step_aside':
-        (22, '0x1.d21284eec0015p-16', '0x0.0p+0', '0x1.4d243caded721p+2', '9073ac4f27bc58ac'),
+        (14, '0x1.c211d48bb3806p-16', '0x0.0p+0', '0x1.89c9cd798d48ep+1', 'b647e37e21eacc25'),
 }
 
 
@@ -58,21 +61,32 @@ def _digest(body: np.ndarray) -> str:
 
 
 def _solve(ik: WholeBodyIK, rest: np.ndarray, name: str):
-    side, target, rot, gaze, area, max_iter = PROBLEMS[name]
-    s = ik.solve(rest, np.array(target), side, target_rot=rot, gaze=None if gaze is None else np.array(gaze),
-                 area=area, max_iter=max_iter)
+    side, target, rot, gaze, stance, squat, max_iter = PROBLEMS[name]
+    start = rest.copy()
+    start[22:25] = stance
+    prior = squat_prior(ik.prior) if squat else ik.prior
+    if squat:
+        start[25], start[26] = prior.pref[25], prior.pref[26]
+    s = ik.solve(start, np.array(target), side, target_rot=rot, gaze=None if gaze is None else np.array(gaze),
+                 prior=prior, max_iter=max_iter)
     return (s.iterations, float(s.pos_error).hex(), float(s.rot_error_deg).hex(), float(s.cost).hex(),
             _digest(s.body))
 
 
+def _ik() -> WholeBodyIK:
+    built = ik_model(human_spec(1.75), [BENCH])
+    return WholeBodyIK(built.model, default_prior(), segments=built.segments, obstacles=built.obstacles,
+                       forearms=built.forearms)
+
+
 @pytest.fixture(scope="module")
 def ik():
-    return WholeBodyIK(human_spec(1.75).compile(), default_prior())
+    return _ik()
 
 
 @pytest.fixture(scope="module")
 def rest():
-    return np.concatenate([rest_angles(), np.zeros(4)])
+    return np.concatenate([rest_angles(), np.zeros(5)])
 
 
 @pytest.mark.parametrize("name", sorted(PROBLEMS))
@@ -81,8 +95,8 @@ def test_the_ik_gives_the_same_bits(ik, rest, name):
 
 
 def _print_golden() -> None:
-    ik = WholeBodyIK(human_spec(1.75).compile(), default_prior())
-    rest = np.concatenate([rest_angles(), np.zeros(4)])
+    ik = _ik()
+    rest = np.concatenate([rest_angles(), np.zeros(5)])
     for name in sorted(PROBLEMS):
         print(f"    {name!r}:\n        {_solve(ik, rest, name)!r},")
 

@@ -76,7 +76,7 @@ def test_farther_piece_bends_the_trunk_with_the_feet_planted_and_steps_when_free
     _, far = _plan(worker, (0.85, -0.2, 0.95), standing_area=PLANTED)
     assert near.angles[:, IDX["trunk_flexion"]].max() < 20.0
     assert far.angles[:, IDX["trunk_flexion"]].max() > near.angles[:, IDX["trunk_flexion"]].max() + 20.0
-    assert not far.stances.any()
+    assert not far.stances[:, :3].any()  # the feet stay on the spot (the knees and ankles may move)
     _, stepping = _plan(worker, (0.85, -0.2, 0.95))
     assert stepping.stances[:, STANCE.index("pelvis_x")].max() > 0.1  # a step towards the piece
     assert stepping.angles[:, IDX["trunk_flexion"]].max() < far.angles[:, IDX["trunk_flexion"]].max() - 10.0

@@ -36,6 +36,7 @@ from ergosim.worker import (
     score_frames,
     tick_indices,
 )
+from ergosim.worker.motion import WORKER_MEASURES
 
 DATA = Path(__file__).parent / "data"
 BVH = DATA / "reach_overhead.bvh"
@@ -67,8 +68,9 @@ def test_tick_indices_60_to_20_hz_take_frame_3k_minus_1():
 
 
 def test_columns_are_the_twins_without_repetition():
-    # ticks.csv carries the twin worker's stance last; a recording has no stance of the twin's
-    assert REPLAY_COLUMNS == tuple(c for c in TICK_COLUMNS if c != "repetition" and c not in STANCE)
+    # ticks.csv carries the twin worker's stance and its balance and clearance last; a recording has none
+    assert REPLAY_COLUMNS == tuple(c for c in TICK_COLUMNS
+                                   if c != "repetition" and c not in STANCE + WORKER_MEASURES)
     trace = replay(_frames(30), 60.0)
     assert trace.table().shape == (10, len(REPLAY_COLUMNS))
     np.testing.assert_allclose(trace.t, np.arange(1, 11) / 20.0)

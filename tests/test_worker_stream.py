@@ -90,7 +90,7 @@ def test_subjects_are_seeded_and_varied():
     assert 1.5 <= min(statures) and max(statures) <= 2.0 and np.std(statures) > 0.03
     assert len({s.speed for s in a}) == 12 and len({s.trunk_use for s in a}) == 12
     assert make_subject(np.random.default_rng(0), stature=1.62).stature == 1.62
-    assert Subject("x").spec().compile().nq == 22 + 4 + 6  # posture, stance, the joints following the knee
+    assert Subject("x").spec().compile().nq == 22 + 5 + 6  # posture, stance, the joints following the legs
 
 
 def test_the_drifting_bias_is_lfilters_first_order_recursion_bit_for_bit():

@@ -14,9 +14,13 @@ wrist; trunk flexion is measured from the vertical with the pelvis fixed, so it 
 
 Besides the 22 posture hinges, the body stands: :data:`STANCE_SPECS` are the pelvis's step and turn on the
 floor and the knees' flexion (:data:`ergosim.posture.STANCE`), and :data:`DRIVEN_SPECS` are the joints that
-follow the knee (the pelvis lowering, hips and ankles, the left knee) so that both feet stay flat where
-they stand (:mod:`ergosim.human.legs`). Knee flexion 0..135 deg is AAOS's active range; the pelvis may move
-0.6 m and turn 120 deg either way (the cell's standing area is tighter, :mod:`ergosim.worker.stance`).
+follow the knee and the ankle (the pelvis moving over the feet, the hips, the left leg) so that both feet
+stay flat where they stand (:mod:`ergosim.human.legs`). Knee flexion 0..135 deg is AAOS's active range;
+ankle dorsiflexion -25..40 deg is the weight-bearing range with the heel down (the lunge test reaches about
+40 deg, Bennell et al. 1998, Aust J Physiother 44:175; leaning the shank back beyond 25 deg with flat feet
+is assumed to be out of balance before it is out of range); hip flexion -30..160 deg covers AAOS's hip
+extension 30 deg and a deep squat. The stance may move 0.6 m and turn 120 deg either way (the cell's
+standing area is tighter, :mod:`ergosim.worker.stance`).
 """
 
 from __future__ import annotations
@@ -75,19 +79,22 @@ STANCE_SPECS: tuple[JointSpec, ...] = (
     JointSpec("pelvis_y", (0, 1, 0), (-0.6, 0.6), "slide"),
     JointSpec("pelvis_rotation", (0, 0, 1), (-120.0, 120.0)),
     JointSpec("knee_flexion", (0, 1, 0), (0.0, 135.0)),  # the right knee; positive: the shank swings back
+    JointSpec("ankle_dorsiflexion", (0, -1, 0), (-25.0, 40.0)),  # the right ankle; positive: shank forward
 )
 """The stance joints, named as :data:`ergosim.posture.STANCE` (knee_flexion is the right knee's hinge)."""
 
 DRIVEN_SPECS: tuple[JointSpec, ...] = (
-    JointSpec("pelvis_drop", (0, 0, -1), (0.0, 0.5), "slide"),  # the range is set per body (mjcf.py)
-    JointSpec("hip_flexion", (0, -1, 0), (0.0, 67.5)),
-    JointSpec("ankle_dorsiflexion", (0, -1, 0), (0.0, 67.5)),
-    JointSpec("left_hip_flexion", (0, -1, 0), (0.0, 67.5)),
+    JointSpec("pelvis_shift", (1, 0, 0), (-0.5, 0.5), "slide"),
+    JointSpec("pelvis_drop", (0, 0, -1), (0.0, 0.8), "slide"),
+    JointSpec("hip_flexion", (0, -1, 0), (-30.0, 160.0)),
+    JointSpec("left_hip_flexion", (0, -1, 0), (-30.0, 160.0)),
     JointSpec("left_knee_flexion", (0, 1, 0), (0.0, 135.0)),
-    JointSpec("left_ankle_dorsiflexion", (0, -1, 0), (0.0, 67.5)),
+    JointSpec("left_ankle_dorsiflexion", (0, -1, 0), (-25.0, 40.0)),
 )
-"""Joints set from ``knee_flexion`` (never chosen on their own): hips and ankles take half the knee's angle
-each, so thighs and shanks of equal length keep the pelvis over the ankles and the feet flat."""
+"""Joints set from ``knee_flexion`` and ``ankle_dorsiflexion`` (never chosen on their own): the pelvis
+moves (``pelvis_shift`` forward, ``pelvis_drop`` down) to where the two-link leg puts the hip over the flat
+foot, the hip flexes by the knee angle less the shank's lean so the pelvis stays upright, and the left leg
+mirrors the right (:mod:`ergosim.human.legs`)."""
 
 _BY_NAME = {j.name: j for j in JOINT_SPECS + STANCE_SPECS + DRIVEN_SPECS}
 

@@ -15,6 +15,7 @@ import re
 
 from ergosim.human.anthropometry import Segments
 from ergosim.human.joints import joint_spec
+from ergosim.human.segment_mass import segment_inertials
 
 __all__ = ["HOME_POSTURE", "humanoid_xml"]
 
@@ -47,7 +48,13 @@ def _capsule(pad: str, name: str, a: tuple, b: tuple, r: float, cls: str = "huma
             f"{material}/>")
 
 
-def _arm(s: Segments, side: str, pad: str) -> list[str]:
+def _inertial(pad: str, inertials: dict, body: str) -> str:
+    pos, mass, inertia = inertials[body]
+    sig = " ".join(f"{x:.4g}" for x in inertia)
+    return f'{pad}<inertial pos="{_vec(*pos)}" mass="{mass:.4g}" diaginertia="{sig}"/>'
+
+
+def _arm(s: Segments, side: str, pad: str, inertials: dict) -> list[str]:
     """Clavicle -> upper arm -> forearm -> hand for ``side`` in ("right", "left")."""
     sgn = -1.0 if side == "right" else 1.0  # y of this side
     pre = "" if side == "right" else "left_"
@@ -58,19 +65,23 @@ def _arm(s: Segments, side: str, pad: str) -> list[str]:
     p1, p2, p3, p4 = (pad + "  " * k for k in range(1, 5))
     return [
         f'{pad}<body name="human_{side}_clavicle" pos="{_vec(*sc)}" gravcomp="1">',
+        _inertial(p1, inertials, "clavicle"),
         _joint(p1, pre + "shoulder_elevation"),
         _capsule(p1, f"human_{side}_clavicle", (0, 0, 0), gh, 0.018 * h, mat="human_cloth"),
         f'{p1}<body name="human_{side}_upper_arm" pos="{_vec(*gh)}" gravcomp="1">',
+        _inertial(p2, inertials, "upper_arm"),
         _joint(p2, pre + "shoulder_flexion"),
         _joint(p2, pre + "shoulder_abduction"),
         _joint(p2, pre + "shoulder_rotation"),
         _capsule(p2, f"human_{side}_upper_arm", (0, 0, 0), (0, 0, -s.upper_arm), 0.026 * h,
                  mat="human_cloth"),
         f'{p2}<body name="human_{side}_forearm" pos="{_vec(0, 0, -s.upper_arm)}" gravcomp="1">',
+        _inertial(p3, inertials, "forearm"),
         _joint(p3, pre + "elbow_flexion"),
         _joint(p3, pre + "forearm_pronation"),
         _capsule(p3, f"human_{side}_forearm", (0, 0, 0), (0, 0, -s.forearm), 0.020 * h),
         f'{p3}<body name="human_{side}_hand" pos="{_vec(0, 0, -s.forearm)}" gravcomp="1">',
+        _inertial(p4, inertials, "hand"),
         _joint(p4, pre + "wrist_flexion"),
         _joint(p4, pre + "wrist_deviation"),
         _capsule(p4, f"human_{side}_hand", (0, 0, -0.12 * s.hand), (0, 0, -0.8 * s.hand), 0.012 * h),
@@ -84,43 +95,38 @@ def _arm(s: Segments, side: str, pad: str) -> list[str]:
     ]
 
 
-def _leg(s: Segments, side: str, pad: str) -> list[str]:
-    """Thigh -> shank -> foot for ``side``, hanging from the pelvis; their hinges follow the knee
-    (:mod:`ergosim.human.legs`)."""
+def _leg(s: Segments, side: str, pad: str, inertials: dict) -> list[str]:
+    """Thigh -> shank -> foot for ``side``, hanging from the pelvis; their hinges follow the stance's knee
+    and ankle (:mod:`ergosim.human.legs`). The foot spans heel to toe, a quarter of its length behind the
+    ankle (:func:`foot_extent`)."""
     h = s.stature
     y = (-1.0 if side == "right" else 1.0) * 0.55 * s.hip_half_width
     pre = "" if side == "right" else "left_"
     p1, p2, p3 = (pad + "  " * k for k in range(1, 4))
+    heel, toe = foot_extent(s)
+    r = 0.02 * h
     return [
         f'{pad}<body name="human_{side}_thigh" pos="{_vec(0, y, 0)}" gravcomp="1">',
+        _inertial(p1, inertials, "thigh"),
         _joint(p1, pre + "hip_flexion"),
         _capsule(p1, f"human_{side}_thigh", (0, 0, 0), (0, 0, -s.thigh), 0.034 * h, mat="human_trousers"),
         f'{p1}<body name="human_{side}_shank" pos="{_vec(0, 0, -s.thigh)}" gravcomp="1">',
+        _inertial(p2, inertials, "shank"),
         _joint(p2, pre + "knee_flexion"),
         _capsule(p2, f"human_{side}_shank", (0, 0, 0), (0, 0, -s.shank), 0.024 * h, mat="human_trousers"),
         f'{p2}<body name="human_{side}_foot" pos="{_vec(0, 0, -s.shank)}" gravcomp="1">',
+        _inertial(p3, inertials, "foot"),
         _joint(p3, pre + "ankle_dorsiflexion"),
-        _capsule(p3, f"human_{side}_foot", (-0.02 * h, 0, 0), (0.7 * s.foot, 0, 0), 0.02 * h,
-                 mat="human_trousers"),
+        _capsule(p3, f"human_{side}_foot", (heel + r, 0, 0), (toe - r, 0, 0), r, mat="human_trousers"),
         f"{p2}</body>",
         f"{p1}</body>",
         f"{pad}</body>",
     ]
 
 
-def humanoid_xml(s: Segments, model_name: str = "humanoid_upper", keyframe: str | None = "home") -> str:
-    """The MJCF document of the human with segments ``s``.
-
-    The root body ``human_base`` has no joint and sits on the floor at the worker's position, facing +x:
-    attach it to a frame there. The pelvis above it steps (``pelvis_x``, ``pelvis_y``), turns
-    (``pelvis_rotation``) and lowers with the knees (``knee_flexion`` and the joints that follow it).
-    """
-    h = s.stature
-    hip_y = 0.55 * s.hip_half_width
-    sh_z = s.lumbar_to_c7 - s.c7_to_shoulder
-    knee_max = math.radians(joint_spec("knee_flexion").range_deg[1])
-    drop_max = (s.thigh + s.shank) * (1.0 - math.cos(0.5 * knee_max))
-    lines = [
+def _header(model_name: str) -> list[str]:
+    """The document's opening: compiler, default classes and materials."""
+    return [
         f'<mujoco model="{model_name}">',
         '  <compiler angle="radian" autolimits="true"/>',
         "",
@@ -144,19 +150,47 @@ def humanoid_xml(s: Segments, model_name: str = "humanoid_upper", keyframe: str 
         '    <material name="human_trousers" rgba="0.2 0.2 0.25 1"/>',
         "  </asset>",
         "",
+    ]
+
+
+def foot_extent(s: Segments) -> tuple[float, float]:
+    """(heel, toe) x of the foot from the ankle [m]: the ankle a quarter of the foot's length (Drillis &
+    Contini, 0.152 H) from the heel (assumed: the lateral malleolus sits about a quarter of the foot's
+    length in front of the heel)."""
+    return -0.25 * s.foot, 0.75 * s.foot
+
+
+def humanoid_xml(s: Segments, model_name: str = "humanoid_upper", keyframe: str | None = "home") -> str:
+    """The MJCF document of the human with segments ``s``.
+
+    The root body ``human_base`` has no joint and sits on the floor at the worker's position, facing +x:
+    attach it to a frame there. The pelvis above it steps (``pelvis_x``, ``pelvis_y``), turns
+    (``pelvis_rotation``) and moves over the feet with the knees and ankles (``knee_flexion``,
+    ``ankle_dorsiflexion`` and the joints that follow them). Segment masses and centres of mass are de
+    Leva's (:mod:`ergosim.human.segment_mass`).
+    """
+    h = s.stature
+    hip_y = 0.55 * s.hip_half_width
+    sh_z = s.lumbar_to_c7 - s.c7_to_shoulder
+    inertials = segment_inertials(s)
+    lines = [
+        *_header(model_name),
         "  <worldbody>",
         '    <body name="human_base" childclass="human">',
         f'      <body name="human_pelvis" pos="{_vec(0, 0, s.hip_height)}" gravcomp="1">',
+        _inertial("        ", inertials, "pelvis"),
         *(_joint("        ", n) for n in ("pelvis_x", "pelvis_y", "pelvis_rotation")),
-        _joint("        ", "pelvis_drop", (0.0, drop_max)),
+        _joint("        ", "pelvis_shift"),
+        _joint("        ", "pelvis_drop", (0.0, s.thigh + s.shank)),
         _capsule("        ", "human_pelvis", (0, -hip_y, 0.03 * h), (0, hip_y, 0.03 * h), 0.055 * h,
                  mat="human_trousers"),
-        *_leg(s, "right", "        "),
-        *_leg(s, "left", "        "),
+        *_leg(s, "right", "        ", inertials),
+        *_leg(s, "left", "        ", inertials),
     ]
     p1, p2, p3 = "        ", "          ", "            "
     lines += [
         f'{p1}<body name="human_torso" pos="{_vec(0, 0, s.lumbar_above_hip)}" gravcomp="1">',
+        _inertial(p2, inertials, "torso"),
         *(_joint(p2, n) for n in ("trunk_flexion", "trunk_lateral_bend", "trunk_rotation")),
         _capsule(p2, "human_abdomen", (0, -0.5 * s.chest_half_width, 0.04 * h),
                  (0, 0.5 * s.chest_half_width, 0.04 * h), 0.06 * h, mat="human_cloth"),
@@ -164,14 +198,17 @@ def humanoid_xml(s: Segments, model_name: str = "humanoid_upper", keyframe: str 
         _capsule(p2, "human_chest", (0, -0.75 * s.chest_half_width, sh_z - 0.045 * h),
                  (0, 0.75 * s.chest_half_width, sh_z - 0.045 * h), 0.06 * h, mat="human_cloth"),
         f'{p2}<body name="human_head" pos="{_vec(0, 0, s.lumbar_to_c7)}" gravcomp="1">',
+        _inertial(p3, inertials, "head"),
         *(_joint(p3, n) for n in ("neck_flexion", "neck_lateral_bend", "neck_rotation")),
-        _capsule(p3, "human_neck", (0, 0, -0.01 * h), (0.01 * h, 0, 0.5 * s.c7_to_eye), 0.028 * h),
-        _capsule(p3, "human_head", (0.02 * h, 0, s.c7_to_eye - 0.03 * h),
-                 (0.02 * h, 0, s.c7_to_eye + s.head_top_above_eye - 0.055 * h), 0.055 * h),
+        # the neck rises straight from C7 and the skull sits on it (its centre over the neck, the face in
+        # front): a flexed neck tips the head about C7 rather than hanging it out in front
+        _capsule(p3, "human_neck", (0, 0, -0.01 * h), (0.004 * h, 0, 0.5 * s.c7_to_eye), 0.028 * h),
+        _capsule(p3, "human_head", (0.008 * h, 0, s.c7_to_eye - 0.03 * h),
+                 (0.008 * h, 0, s.c7_to_eye + s.head_top_above_eye - 0.055 * h), 0.055 * h),
         f'{p3}<site name="human_eyes" pos="{_vec(s.eye_forward, 0, s.c7_to_eye)}"/>',
         f"{p2}</body>",
-        *_arm(s, "right", p2),
-        *_arm(s, "left", p2),
+        *_arm(s, "right", p2, inertials),
+        *_arm(s, "left", p2, inertials),
         f"{p1}</body>",
         "      </body>",
         "    </body>",

@@ -95,7 +95,7 @@ class MocapHuman(HumanReadout):
 
     # -- driving ---------------------------------------------------------------------------------------------
     def _fk(self, qpos: np.ndarray) -> mujoco.MjData:
-        """Forward kinematics of the articulated model at the 22 angles [rad] (a (26,) body vector also sets
+        """Forward kinematics of the articulated model at the 22 angles [rad] (a (27,) body vector also sets
         the stance, :func:`~ergosim.human.model.body_qpos`); its data."""
         kd = self.kin_data
         self.kin.write_body(kd.qpos, qpos)
@@ -103,7 +103,7 @@ class MocapHuman(HumanReadout):
         return kd
 
     def pose(self, data: mujoco.MjData, qpos: np.ndarray, qvel: np.ndarray | None = None) -> None:
-        """Set the 22 angles [rad] (or a (26,) body vector with the stance): forward kinematics of the
+        """Set the 22 angles [rad] (or a (27,) body vector with the stance): forward kinematics of the
         articulated model, then the segments' world
         poses into ``data.mocap_pos``/``mocap_quat`` (in effect from the next ``mj_step``/``mj_kinematics``).
         ``qvel`` is accepted for the same call as :meth:`HumanModel.pose` and unused: mocap bodies have no
@@ -131,7 +131,7 @@ class MocapHuman(HumanReadout):
     def segment_pose_at(self, angles_deg: np.ndarray, body: str,
                         stance: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """World pose (position (3,) [m], quaternion (4,) wxyz) segment ``body`` would have at (22,) angles
-        [deg] and (4,) ``stance`` [m, m, deg, deg], from the articulated model alone (the scene is
+        [deg] and (5,) ``stance`` [m, m, deg, deg, deg], from the articulated model alone (the scene is
         untouched)."""
         kd = self._fk(body_qpos(angles_deg, stance))
         b = self.kin_model.body(body).id

@@ -41,12 +41,13 @@ def human_spec(stature: float = 1.75, scale: Mapping[str, float] | None = None,
 
 
 _N = len(HUMAN_JOINTS)
-_BODY_SCALE = np.concatenate([np.full(_N, np.pi / 180.0), [1.0, 1.0, np.pi / 180.0, np.pi / 180.0]])
+_BODY_SCALE = np.concatenate([np.full(_N, np.pi / 180.0), [1.0, 1.0, np.pi / 180.0, np.pi / 180.0,
+                                                            np.pi / 180.0]])
 
 
 def body_qpos(angles_deg: np.ndarray, stance: np.ndarray | None = None) -> np.ndarray:
-    """The qpos values [rad, m] of a posture (..., 22) [deg] and a stance (..., 4) [m, m, deg, deg]
-    (:data:`~ergosim.posture.STANCE`; None: standing straight on the spot), as one (..., 26) array in
+    """The qpos values [rad, m] of a posture (..., 22) [deg] and a stance (..., 5) [m, m, deg, deg, deg]
+    (:data:`~ergosim.posture.STANCE`; None: standing straight on the spot), as one (..., 27) array in
     HUMAN_JOINTS + STANCE order: what :meth:`HumanModel.pose` and :meth:`MocapHuman.pose` take."""
     angles = np.asarray(angles_deg, dtype=float)
     if stance is None:
@@ -134,21 +135,21 @@ class HumanModel(HumanReadout):
         qpos[self.qadr] = np.deg2rad(angles_deg)
 
     def write_body(self, qpos: np.ndarray, body: np.ndarray) -> None:
-        """Write a body vector (22,) [rad] or (26,) [rad, m] (:func:`body_qpos`) into ``qpos`` in place: the
-        posture, and with 26 values the stance and the joints that follow the knee."""
+        """Write a body vector (22,) [rad] or (27,) [rad, m] (:func:`body_qpos`) into ``qpos`` in place: the
+        posture, and with 27 values the stance and the joints that follow the knee and the ankle."""
         qpos[self.qadr] = body[:_N]
         if len(body) > _N:
             qpos[self.stance_qadr[:3]] = body[_N:_N + 3]
-            self.legs.write(qpos, body[_N + 3])
+            self.legs.write(qpos, body[_N + 3], body[_N + 4])
 
     def pose(self, data: mujoco.MjData, qpos: np.ndarray, qvel: np.ndarray | None = None) -> None:
-        """Write the 22 angles [rad] (and their rates [rad/s], else zero) into ``data``, or a (26,) body
+        """Write the 22 angles [rad] (and their rates [rad/s], else zero) into ``data``, or a (27,) body
         vector with the stance (:func:`body_qpos`); no kinematics."""
         self.write_body(data.qpos, qpos)
         data.qvel[self.dofadr] = 0.0 if qvel is None else qvel[:_N]
 
     def set_body(self, data: mujoco.MjData, angles_deg: np.ndarray, stance: np.ndarray | None = None) -> None:
-        """Set the posture (22,) [deg] and the stance (4,) [m, m, deg, deg] and run mj_kinematics."""
+        """Set the posture (22,) [deg] and the stance (5,) [m, m, deg, deg, deg] and run mj_kinematics."""
         self.write_body(data.qpos, body_qpos(angles_deg, stance))
         data.qvel[self.dofadr] = 0.0
         mujoco.mj_kinematics(self.model, data)

@@ -19,6 +19,7 @@ import numpy as np
 from ergosim.ergonomics.risk_index import RiskIndex
 from ergosim.errors import ModelError
 from ergosim.posture import KWEAR_JOINTS, STANCE
+from ergosim.worker.motion import WORKER_MEASURES
 from ergosim.twin.records import TICK_COLUMNS, TickLog
 from ergosim.twin.worker_track import WorkerTrack
 
@@ -32,7 +33,7 @@ _REST_CHUNK = 5.0
 _SCORES = slice(TICK_COLUMNS.index("acting"), TICK_COLUMNS.index("rula_grand") + 1)
 _KWEAR = slice(TICK_COLUMNS.index(f"kwear_{KWEAR_JOINTS[0]}"),
                TICK_COLUMNS.index(f"kwear_{KWEAR_JOINTS[-1]}") + 1)
-_STANCE = slice(TICK_COLUMNS.index(STANCE[0]), TICK_COLUMNS.index(STANCE[-1]) + 1)
+_STANCE = slice(TICK_COLUMNS.index(STANCE[0]), TICK_COLUMNS.index(WORKER_MEASURES[-1]) + 1)
 _END = len(TICK_COLUMNS)  # the extra columns of a REBA index follow the paper's (and the stance)
 
 
@@ -178,7 +179,7 @@ class Plant:
         row[_SCORES] = seg.scores[k]
         v = self.kwear.value
         row[_KWEAR] = v[:_M]
-        row[_STANCE] = seg.stance[k]
+        row[_STANCE] = seg.motion.tick_stance[k]
         if len(row) > _END:
             n = len(self._extra)
             row[_END:_END + n] = seg.extra[k]

@@ -14,6 +14,7 @@ import numpy as np
 
 from ergosim.ergonomics.rula import RULA_PARTS
 from ergosim.posture import ANGLE_NAMES, KWEAR_JOINTS, STANCE
+from ergosim.worker.motion import WORKER_MEASURES
 
 __all__ = ["Allocation", "Failure", "RepetitionOutcome", "TickLog", "SubjectRun", "TICK_COLUMNS"]
 
@@ -25,9 +26,13 @@ TICK_COLUMNS: tuple[str, ...] = (
     + ("rula_grand",)
     + tuple(f"kwear_{j}" for j in KWEAR_JOINTS)
     + STANCE
+    + WORKER_MEASURES
 )
-"""Columns of ``ticks.csv`` after ``subject`` and ``mode``; angles in degrees, t in seconds; the stance last
-(the worker's true pelvis step [m], turn [deg] and knee flexion [deg])."""
+"""Columns of ``ticks.csv`` after ``subject`` and ``mode``; angles in degrees, t in seconds; then the
+worker's true stance (where the feet stand [m], the turn [deg], knee flexion and ankle dorsiflexion [deg])
+and how the posture stands: ``com_margin``, the centre of mass's distance inside the base of support [m],
+and ``clearance``, the body's smallest distance to the furniture [m] (capped at 0.1; empty where the cell
+has none)."""
 
 
 @dataclasses.dataclass(frozen=True)

@@ -2,24 +2,31 @@
 eyes take the gaze.
 
 Every joint j of the body vector (:data:`BODY`: the 22 posture angles, then the stance) costs
-((q_j - pref_j) / sigma_j)^2: sigma is how far it moves for one unit of cost. The sources:
+((q_j - pref_j) / sigma_j)^2: sigma is how far it moves for one unit of cost. The stance's step and turn
+are not priced here: the stance is chosen first (:mod:`ergosim.worker.stance`) and the IK solves the body
+for it, as posture-prediction tools do. The sources:
 
 - **Trunk and neck: ISO 11226:2000 / EN 1005-4 neutral zones.** Trunk inclination is neutral from 0 to
   20 deg, trunk lateral bending and twisting up to 10 deg ("not clearly visible"), neck flexion from 0 to
   25 deg and neck lateral bending up to 10 deg (as tabulated by Wagner et al., J Occup Med Toxicol 2020,
   Table 2). One unit of cost is the edge of the joint's neutral zone; a subject's ``trunk_use`` scales the
   trunk's. Extension of the trunk or the neck is outside the neutral zone: it costs as a comfort-box
-  excess. Neck rotation has no neutral zone there: 25 deg, the neck's flexion zone, is *assumed*.
-- **Eyes.** The eyes take the first ``eye_down_deg`` (20 deg, the subject's, docs/fidelity.md) of downward
-  gaze, 5 deg upward and 15 deg sideways before the head must turn (*assumed*: gaze shifts up to 15-20 deg
-  are made mostly by the eyes). The gaze itself is a stiff soft task (``gaze_sigma_deg`` 2 deg).
-- **Arm: assumed** (as before this issue): the elbow prefers 80 deg and costs more when almost straight
-  (a one-sided comfort box at ``elbow_comfort_deg``), the shoulder abduction and rotation priors keep the
-  elbow low, a shrug is allowed but costly.
-- **Stance: assumed.** A step of ``step_sigma`` (0.15 m), a turn of ``turn_sigma_deg`` (30 deg) and a knee
-  flexion of ``knee_sigma_deg`` (30 deg) each cost one unit: the worker steps and turns rather than twisting
-  the trunk beyond its neutral zone, and bends the knees rather than stooping for a low target. Whether
-  it may move its feet at all is the cell's standing area (:mod:`ergosim.worker.stance`).
+  excess. Neck rotation has no neutral zone there: 25 deg, the neck's flexion zone, is *assumed*. Neck
+  flexion past :data:`NECK_COMFORT_DEG` costs as a comfort-box excess too, so the neck does not sit at
+  its 45 deg limit while the trunk or the knees can take the gaze.
+- **Eyes: Hill & Kroemer (1986), Ergonomics 29:1129.** The preferred line of sight lies 29 deg +- 12 deg
+  below the horizontal of the head; the eyes take the gaze first, up to the subject's own preferred
+  declination ``eye_down_deg`` (29 deg by default), 5 deg up and 15 deg sideways (*assumed*: gaze shifts up
+  to 15-20 deg are made mostly by the eyes). Beyond that they still turn, softly: the rest of the gaze
+  costs one unit per ``gaze_sigma_deg`` (12 deg, their spread), and the neck, the trunk and the knees share
+  it by their own priors (Burgess-Limerick et al. 2000, Human Factors 42:90: lower targets are seen with
+  both more eye declination and more head flexion).
+- **Arm: assumed**: the elbow prefers 80 deg and costs more when almost straight (a one-sided comfort box
+  at ``elbow_comfort_deg``), the shoulder abduction and rotation priors keep the elbow low, a shrug is
+  allowed but costly.
+- **Legs: assumed.** 30 deg of knee flexion and 15 deg of ankle dorsiflexion each cost one unit from
+  straight legs: a worker stands straight until the trunk's or the neck's cost makes bending the knees or
+  shifting the hips worth it; for a target below knee height the worker squats (:func:`squat_prior`).
 """
 
 from __future__ import annotations
@@ -30,18 +37,30 @@ import numpy as np
 
 from ergosim.posture import HUMAN_JOINTS, STANCE
 
-__all__ = ["BODY", "IKPrior", "default_prior", "TRUNK_NEUTRAL_DEG", "NECK_NEUTRAL_DEG", "STANCE_SIGMA"]
+__all__ = ["BODY", "IKPrior", "default_prior", "squat_prior", "TRUNK_NEUTRAL_DEG", "NECK_NEUTRAL_DEG",
+           "STANCE_SIGMA", "NECK_COMFORT_DEG", "STOOP_KNEE_DEG", "SQUAT_KNEE_DEG", "PREFERRED_GAZE_DEG"]
 
 BODY: tuple[str, ...] = HUMAN_JOINTS + STANCE
-"""The body vector: posture angles [deg] then the stance [m, m, deg, deg] (26)."""
+"""The body vector: posture angles [deg] then the stance [m, m, deg, deg, deg] (27)."""
 _IDX = {n: i for i, n in enumerate(BODY)}
 
 TRUNK_NEUTRAL_DEG = {"trunk_flexion": 20.0, "trunk_lateral_bend": 10.0, "trunk_rotation": 10.0}
 """ISO 11226:2000 / EN 1005-4: trunk inclination neutral 0-20 deg, side bending and twisting up to 10 deg."""
 NECK_NEUTRAL_DEG = {"neck_flexion": 25.0, "neck_lateral_bend": 10.0, "neck_rotation": 25.0}
 """ISO 11226:2000: neck flexion neutral 0-25 deg, lateral bending up to 10 deg; rotation assumed (25 deg)."""
-STANCE_SIGMA = {"pelvis_x": 0.15, "pelvis_y": 0.15, "pelvis_rotation": 30.0, "knee_flexion": 30.0}
-"""Assumed: a 15 cm step, a 30 deg turn and 30 deg of knee flexion each cost one unit [m, m, deg, deg]."""
+STANCE_SIGMA = {"knee_flexion": 30.0, "ankle_dorsiflexion": 15.0}
+"""Assumed: 30 deg of knee flexion and 15 deg of ankle dorsiflexion each cost one unit [deg]."""
+NECK_COMFORT_DEG = 35.0
+"""Neck flexion [deg] past which each 4 deg more costs one unit (assumed: 10 deg inside the 45 deg range,
+10 deg past ISO 11226's 25 deg neutral zone)."""
+PREFERRED_GAZE_DEG = 29.0
+"""Hill & Kroemer (1986): the preferred declination of the line of sight below the head's horizontal."""
+STOOP_KNEE_DEG = 30.0
+"""Knee flexion [deg] a worker reaching above knee height keeps within (a comfort box; assumed: the knees
+bend slightly in a stoop, and MTM-1 counts a Bend past 30 deg, :mod:`ergosim.worker.action_timing`)."""
+SQUAT_KNEE_DEG = 60.0
+"""Knee flexion [deg] a squatting worker prefers (assumed: a semi-squat; the knees' cost is measured from
+here, the ankles' from half of it, so the hips stay over the feet)."""
 
 
 @dataclass(frozen=True)
@@ -60,14 +79,14 @@ class IKPrior:
     comfort_lo: np.ndarray
     comfort_hi: np.ndarray
     comfort_sigma_deg: float = 4.0
-    eye_down_deg: float = 20.0
+    eye_down_deg: float = PREFERRED_GAZE_DEG
     eye_up_deg: float = 5.0
     eye_side_deg: float = 15.0
-    gaze_sigma_deg: float = 2.0
+    gaze_sigma_deg: float = 12.0
 
     def jittered(self, rng: np.random.Generator, deg: float) -> IKPrior:
         """A copy whose preferred posture angles are perturbed by N(0, deg) (trial-to-trial variability);
-        the stance's preference (the worker's own spot) is not."""
+        the legs' preference is not."""
         pref = self.pref.copy()
         pref[:len(HUMAN_JOINTS)] += rng.normal(0.0, deg, len(HUMAN_JOINTS))
         return replace(self, pref=pref)
@@ -82,6 +101,8 @@ def default_prior(trunk_use: float = 1.0, elbow_comfort_deg: float = 25.0,
     sigma = np.full(n, 30.0)
     lo_c = np.full(n, -360.0)
     hi_c = np.full(n, 360.0)
+    hi_c[_IDX["neck_flexion"]] = NECK_COMFORT_DEG
+    hi_c[_IDX["knee_flexion"]] = STOOP_KNEE_DEG
     box = {"elbow_flexion": (elbow_comfort_deg, 360.0), "shoulder_flexion": (-15.0, 360.0),
            "shoulder_abduction": (-25.0, 360.0)}
     # ISO 11226: trunk and neck extension lie outside their neutral zones (leaning back is "awkward")
@@ -109,3 +130,17 @@ def default_prior(trunk_use: float = 1.0, elbow_comfort_deg: float = 25.0,
     for name, s in {**STANCE_SIGMA, **(stance_sigma or {})}.items():
         sigma[_IDX[name]] = s
     return IKPrior(pref, sigma, lo_c, hi_c)
+
+
+def squat_prior(prior: IKPrior) -> IKPrior:
+    """``prior`` for a target below knee height: the knees prefer :data:`SQUAT_KNEE_DEG` and the ankles
+    half of it (the hips over the feet). The rule is the manual-handling advice to bend the knees rather
+    than stoop for a low reach (HSE, *Manual handling at work*, INDG143: "a slight bending of the back,
+    hips and knees ... is preferable to fully flexing the back (stooping)"): below the knee the worker
+    squats, above it the legs stay straight unless bending them pays."""
+    pref = prior.pref.copy()
+    pref[_IDX["knee_flexion"]] = SQUAT_KNEE_DEG
+    pref[_IDX["ankle_dorsiflexion"]] = 0.5 * SQUAT_KNEE_DEG
+    hi_c = prior.comfort_hi.copy()
+    hi_c[_IDX["knee_flexion"]] = 360.0
+    return replace(prior, pref=pref, comfort_hi=hi_c)

@@ -2,10 +2,11 @@
 
 An action passes through eleven key bodies (:data:`KEY_NAMES`): rest, above the part, at the part (held
 while the hand closes), lifted (looking at the target), above the target, at the target (held while the
-part is fitted and let go), retreated, rest. The worker chooses where to stand once at the part and once at
-the target (the IK's stance is free within the standing area there) and keeps that stance for the approach
-and the retreat (people do not step during a final approach): the step and the turn happen while the hand
-travels, rest -> part and part -> target, and back home on the return.
+part is fitted and let go), retreated, rest. The stance is chosen first, once at the part and once at the
+target (:func:`ergosim.worker.stance.choose_stance`), and the IK solves the body for it; the worker keeps
+that stance for the approach and the retreat (people do not step during a final approach): the step and
+the turn happen while the hand travels, rest -> part and part -> target, and back home on the return. A
+target below the knee is reached squatting (:func:`ergosim.worker.ik_prior.squat_prior`).
 
 The hand keeps its grip's orientation at the target (a 6-D solve) unless turning the part in the hand
 spares the worker more than :data:`REGRASP_COST`, or keeping it is out of reach (a profile lying flat on
@@ -20,9 +21,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ergosim.posture import HUMAN_JOINTS
 from ergosim.worker.ik import IKSolution, WholeBodyIK, log_so3
-from ergosim.worker.ik_prior import IKPrior
-from ergosim.worker.stance import StandingArea
+from ergosim.worker.ik_prior import IKPrior, squat_prior
+from ergosim.worker.stance import StandingArea, StanceRule, choose_stance
 
 __all__ = ["KEY_NAMES", "KeyPoses", "plan_keyposes", "approach_point"]
 
@@ -41,7 +43,7 @@ PLACE_TOL = 0.005
 
 @dataclass(frozen=True)
 class KeyPoses:
-    """(11, 26) key bodies [deg, m] (:data:`KEY_NAMES`), the IK residuals at the part and at the target,
+    """(11, 27) key bodies [deg, m] (:data:`KEY_NAMES`), the IK residuals at the part and at the target,
     and ``regrasp_deg``: how far the part turns in the hand between grasp and place (0 with the grip kept)."""
 
     bodies: np.ndarray
@@ -70,11 +72,29 @@ def approach_point(ik: WholeBodyIK, point: np.ndarray, body: np.ndarray, shoulde
     return point + np.array([*(APPROACH_BACK * back), APPROACH_UP])
 
 
+_N = len(HUMAN_JOINTS)
+_KNEE, _ANKLE = _N + 3, _N + 4
+
+
+def stance_at(rest: np.ndarray, point: np.ndarray, rule: StanceRule, area: StandingArea,
+              prior: IKPrior) -> tuple[np.ndarray, IKPrior]:
+    """The start of the solves at ``point``: the body ``rest`` (27,) moved to the chosen stance, the legs
+    straight or, where the worker squats, already bent; and the prior for that reach."""
+    start = np.array(rest, dtype=float)
+    start[_N:_N + 3] = choose_stance(point, rule, area)
+    if point[2] < rule.knee_height:
+        squat = squat_prior(prior)
+        start[_KNEE], start[_ANKLE] = squat.pref[_KNEE], squat.pref[_ANKLE]
+        return start, squat
+    start[_KNEE] = start[_ANKLE] = 0.0
+    return start, prior
+
+
 def plan_keyposes(ik: WholeBodyIK, rest: np.ndarray, part: tuple[np.ndarray, np.ndarray],
                   target: tuple[np.ndarray, np.ndarray], prior: IKPrior, area: StandingArea,
-                  side: str, grip: np.ndarray | None = None) -> KeyPoses:
+                  side: str, rule: StanceRule, grip: np.ndarray | None = None) -> KeyPoses:
     """Key bodies for moving a part at ``part`` (position (3,), rotation (3, 3)) onto ``target`` (the same),
-    both in the IK model's frame, starting and ending at ``rest`` (26,). ``grip`` (3,): where the hand takes
+    both in the IK model's frame, starting and ending at ``rest`` (27,). ``grip`` (3,): where the hand takes
     the part, in the part's frame (None: its origin)."""
     part_pos, part_rot = part
     tgt_pos, tgt_rot = target
@@ -82,14 +102,13 @@ def plan_keyposes(ik: WholeBodyIK, rest: np.ndarray, part: tuple[np.ndarray, np.
     grip_pos = part_pos + part_rot @ grip  # where the hand closes
     grip_tgt = tgt_pos + tgt_rot @ grip  # where that point of the part ends
     shoulder = ik.model.body(ik.human.shoulder_body[side]).name
-    planted = StandingArea.planted()
+    at_part, part_prior = stance_at(rest, grip_pos, rule, area, prior)
 
     def solve(q0: np.ndarray, point: np.ndarray, look: np.ndarray, rot: np.ndarray | None = None,
-              where: StandingArea = planted, max_iter: int | None = None) -> IKSolution:
-        return ik.solve(q0, point, side, target_rot=rot, gaze=look, prior=prior, area=where,
-                        max_iter=max_iter)
+              pr: IKPrior = part_prior, max_iter: int | None = None) -> IKSolution:
+        return ik.solve(q0, point, side, target_rot=rot, gaze=look, prior=pr, max_iter=max_iter)
 
-    grasp = solve(rest, grip_pos, grip_pos, where=area)
+    grasp = solve(at_part, grip_pos, grip_pos)
     above_part = approach_point(ik, grip_pos, grasp.body, shoulder)
     lift = solve(grasp.body, above_part, grip_pos)
     straight_in = _on_its_way_in(part, target)
@@ -103,20 +122,24 @@ def plan_keyposes(ik: WholeBodyIK, rest: np.ndarray, part: tuple[np.ndarray, np.
     # where the hand must be for the part to sit on the target, keeping the grip
     place_rot = tgt_rot @ rot_in_hand.T
     place_pos = tgt_pos - place_rot @ part_in_hand
-    kept = solve(lifted.body, place_pos, tgt_pos, place_rot, where=area, max_iter=40)
-    turned = solve(lifted.body, grip_tgt, tgt_pos, where=area)
+    if straight_in:  # pushed home from where it was taken: no step between
+        at_target, tgt_prior = lifted.body, part_prior
+    else:
+        at_target, tgt_prior = stance_at(lifted.body, grip_tgt, rule, area, prior)
+    kept = solve(at_target, place_pos, tgt_pos, place_rot, tgt_prior, max_iter=40)
+    turned = solve(at_target, grip_tgt, tgt_pos, pr=tgt_prior)
     _, hand_r5 = ik.hand_pose(turned.body, side)
     turn_deg = float(np.rad2deg(np.linalg.norm(log_so3(tgt_rot @ (hand_r5 @ rot_in_hand).T))))
     # the worker keeps the grip unless turning the part in the hand spares more than a neutral zone's worth
     keep_grip = kept.pos_error <= PLACE_TOL and kept.cost <= turned.cost + REGRASP_COST
     place, regrasp = (kept, 0.0) if keep_grip else (turned._replace(rot_error_deg=turn_deg), turn_deg)
     above_tgt = approach_point(ik, place_pos if keep_grip else grip_tgt, place.body, shoulder)
-    retreat = solve(place.body, above_tgt, tgt_pos)
+    retreat = solve(place.body, above_tgt, tgt_pos, pr=tgt_prior)
     down = retreat
     if straight_in and keep_grip:
         down = lifted
     elif keep_grip:  # lowering onto the target keeps the grip's orientation where that converges quickly
-        keep = solve(place.body, above_tgt, tgt_pos, place_rot, max_iter=25)
+        keep = solve(place.body, above_tgt, tgt_pos, place_rot, tgt_prior, max_iter=25)
         if keep.pos_error <= PLACE_TOL:
             down = keep
     b = [rest, lift.body, grasp.body, grasp.body, lifted.body, down.body, place.body, place.body,

@@ -16,23 +16,29 @@ root on the floor, ``human_base``) through that root's pose in the scene.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any, NamedTuple, Protocol
 
 import numpy as np
 
+from ergosim.human.anthropometry import segment_lengths
 from ergosim.human.model import ROOT_BODY
 from ergosim.posture import HUMAN_JOINTS, STANCE
 from ergosim.quat import to_mat
 from ergosim.worker.action_timing import action_timing
+from ergosim.worker.clear_path import clear_transitions
 from ergosim.worker.ik import WholeBodyIK
 from ergosim.worker.keyposes import plan_keyposes
 from ergosim.worker.minimum_jerk import interpolate_keyframes
-from ergosim.worker.stance import StandingArea, area_from_footprints, area_of_cell
+from ergosim.worker.obstacles import IKModel, clearance, ik_model
+from ergosim.worker.stance import StandingArea, StanceRule, area_from_footprints, area_of_cell
 from ergosim.worker.subjects import Subject, rest_angles
 
-__all__ = ["SceneView", "Phase", "ActionMotion", "Worker"]
+__all__ = ["SceneView", "Phase", "ActionMotion", "Worker", "WORKER_MEASURES"]
 
 _N = len(HUMAN_JOINTS)
+WORKER_MEASURES = ("com_margin", "clearance")
+"""What a motion measures of its postures per frame, beside the stance (:attr:`ActionMotion.tick_stance`)."""
 
 
 class SceneView(Protocol):
@@ -57,8 +63,11 @@ class ActionMotion:
     (HUMAN_JOINTS order); ``hand_pos``: (n, 3) grasp point of the acting hand in the scene's world frame [m].
     ``t_grasp``/``t_release``: when the hand closes on / lets go of the part. ``reach_error``/``place_error``
     [m] and ``place_rot_error_deg``: IK residuals at the part and at the target (with a regrasp, the turn the
-    fingers give the part). ``stance``: (n, 4) how the worker stands [m, m, deg, deg]
-    (:data:`~ergosim.posture.STANCE`; None: on the spot, straight legs).
+    fingers give the part). ``stance``: (n, 5) how the worker stands [m, m, deg, deg, deg]
+    (:data:`~ergosim.posture.STANCE`; None: on the spot, straight legs). ``balance``: (n,) the centre of
+    mass's margin inside the base of support [m] (:mod:`ergosim.worker.balance`); ``clearance``: (n,) the
+    body's smallest distance to the cell's furniture [m], capped at 0.1 (:mod:`ergosim.worker.obstacles`);
+    None where not measured.
     """
 
     action: str
@@ -77,6 +86,8 @@ class ActionMotion:
     mtm: str = ""
     """The action's MTM-1 analysis (:class:`~ergosim.worker.action_timing.ActionTiming`)."""
     stance: np.ndarray | None = None
+    balance: np.ndarray | None = None
+    clearance: np.ndarray | None = None
 
     @property
     def duration(self) -> float:
@@ -84,12 +95,21 @@ class ActionMotion:
 
     @property
     def stances(self) -> np.ndarray:
-        """(n, 4) stance [m, m, deg, deg], zeros when the motion has none."""
+        """(n, 5) stance [m, m, deg, deg, deg], zeros when the motion has none."""
         return self.stance if self.stance is not None else np.zeros((len(self.t), len(STANCE)))
+
+    @cached_property
+    def tick_stance(self) -> np.ndarray:
+        """(n, 7) the stance, the balance margin and the clearance per frame (NaN where not measured): the
+        tick log's columns :data:`~ergosim.posture.STANCE` + :data:`WORKER_MEASURES`."""
+        n = len(self.t)
+        nan = np.full(n, np.nan)
+        return np.column_stack([self.stances, nan if self.balance is None else self.balance,
+                                nan if self.clearance is None else self.clearance])
 
     @property
     def body(self) -> np.ndarray:
-        """(n, 26) posture and stance [deg, m]."""
+        """(n, 27) posture and stance [deg, m]."""
         return np.concatenate([self.angles, self.stances], axis=1)
 
 
@@ -128,11 +148,17 @@ class Worker:
         self.subject = subject
         self.rate = float(rate)
         self.model = subject.spec().compile()
-        self.ik = WholeBodyIK(self.model, subject.prior())
+        seg = segment_lengths(subject.stature, subject.scale_map)
+        self._ik_args = dict(stature=subject.stature, foot_length=seg.foot)
+        self.ik = WholeBodyIK(self.model, subject.prior(), **self._ik_args)
         self.rest = rest_angles(subject)
         self.rest_body = np.concatenate([self.rest, np.zeros(len(STANCE))])
         self.side = subject.handedness
+        sign = -1.0 if self.side == "right" else 1.0
+        self.rule = StanceRule(seg.arm_reach, sign * seg.shoulder_half_width, seg.hip_height - seg.thigh)
         self._area: tuple[Any, StandingArea] | None = None
+        self._cell_ik: tuple[Any, WholeBodyIK, IKModel] | None = None
+        self.rest_balance = float(self.ik.balance_path(self.rest_body[None])[0])
 
     # -- frames ---------------------------------------------------------------------------------------------
     def _frame(self, scene: SceneView) -> tuple[np.ndarray, np.ndarray]:
@@ -151,6 +177,23 @@ class Worker:
                     else area_of_cell(config, self.subject.stature))
             self._area = (config, area)
         return self._area[1]
+
+    def ik_for(self, scene: SceneView) -> tuple[WholeBodyIK, IKModel | None]:
+        """The IK for ``scene``: the subject's human with the cell's furniture as obstacles (and that model's
+        geom ids), built once per cell; a scene without a cell description has none."""
+        config = getattr(scene, "config", None)
+        if config is None or not getattr(config, "furniture", None):
+            return self.ik, None
+        if self._cell_ik is None or self._cell_ik[0] is not config:
+            origin, r_frame = self._frame(scene)
+            yaw = float(np.degrees(np.arctan2(r_frame[1, 0], r_frame[0, 0])))
+            boxes = [(r_frame.T @ (np.asarray(c, dtype=float) - origin), h, -yaw)
+                     for f in config.furniture for c, h in f.boxes()]
+            built = ik_model(self.subject.spec(), boxes)
+            ik = WholeBodyIK(built.model, self.subject.prior(), segments=built.segments,
+                             obstacles=built.obstacles, forearms=built.forearms, **self._ik_args)
+            self._cell_ik = (config, ik, built)
+        return self._cell_ik[1:]
 
     # -- planning -------------------------------------------------------------------------------------------
     def plan(self, scene: SceneView, geometry: Any, rng: np.random.Generator, action: str | None = None,
@@ -176,10 +219,11 @@ class Worker:
         prior = self.subject.prior().jittered(rng, self.subject.variability_deg)
         seats = getattr(geometry, "seats", kind in ("insert", "fasten"))
         grip = _grip(scene, part, part_pos_w, part_pose[1], r_frame, tgt_pose[1], handover) if seats else None
-        keys = plan_keyposes(self.ik, self.rest_body, part_pose, tgt_pose, prior, self.standing_area(scene),
-                             self.side, grip)
+        ik, built = self.ik_for(scene)
+        keys = plan_keyposes(ik, self.rest_body, part_pose, tgt_pose, prior, self.standing_area(scene),
+                             self.side, self.rule, grip)
         bodies = keys.bodies
-        hands = self.ik.hand_path(bodies, self.side)
+        hands = ik.hand_path(bodies, self.side)
         timing = action_timing(hands, seats=seats, handover=handover,
                                turn_time=getattr(geometry, "turn_time", 0.0), stances=bodies[:, _N:],
                                regrasp_deg=keys.regrasp_deg)
@@ -198,7 +242,9 @@ class Worker:
         if t[-1] < key_t[-1]:
             t = np.append(t, key_t[-1])  # end exactly at rest
         body = interpolate_keyframes(key_t, bodies, t)
-        hand_world = self.ik.hand_path(body, self.side) @ r_frame.T + origin
+        body = clear_transitions(ik, key_t, bodies, t, body, range(len(bodies) - 1), self.side, prior, built)
+        hand_world = ik.hand_path(body, self.side) @ r_frame.T + origin
+        balance, clear = self._measures(ik, body, built)
         kind_name = "fasten" if getattr(geometry, "turn_time", 0.0) else "insert" if seats else "place"
         phases = (
             Phase("reach", 0.0, key_t[2]),
@@ -213,7 +259,21 @@ class Worker:
             t=t, angles=body[:, :_N], hand_pos=hand_world, phases=phases, t_grasp=float(key_t[3]),
             t_release=float(key_t[7]), reach_error=keys.reach_error, place_error=keys.place_error,
             place_rot_error_deg=keys.place_rot_error_deg, mtm=timing.analysis, stance=body[:, _N:],
+            balance=balance, clearance=clear,
         )
+
+    @staticmethod
+    def _measures(ik: WholeBodyIK, body: np.ndarray,
+                  built: IKModel | None) -> tuple[np.ndarray, np.ndarray | None]:
+        """(n,) centre-of-mass margins [m] and (n,) clearances from the furniture [m] (None without any)."""
+        balance = ik.balance_path(body)
+        if built is None:
+            return balance, None
+        out = np.empty(len(body))
+        for k, b in enumerate(body):
+            ik._fk(ik.qpos(b))
+            out[k] = clearance(ik.model, ik.data, built.segments, built.obstacles, built.forearms)
+        return balance, out
 
     def rest_motion(self, duration: float) -> ActionMotion:
         """The rest posture held for ``duration`` [s] on the worker's spot (no part, no phases)."""
@@ -222,4 +282,4 @@ class Worker:
         angles = np.broadcast_to(self.rest, (n, len(self.rest))).copy()
         return ActionMotion("rest", "", self.side, self.rate, t, angles, np.full((n, 3), np.nan),
                             (Phase("rest", 0.0, float(t[-1])),), np.nan, np.nan, 0.0, 0.0, 0.0,
-                            stance=np.zeros((n, len(STANCE))))
+                            stance=np.zeros((n, len(STANCE))), balance=np.full(n, self.rest_balance))

@@ -1,14 +1,24 @@
-"""Where the worker may stand: the standing area in the worker's frame, from the cell's furniture.
+"""Where the worker stands: the standing area, and the stance chosen for each reach before the posture.
 
 The worker stands at the cell's worker position and may step and turn within a *standing area*
 (:class:`StandingArea`, bounds on the stance's pelvis_x, pelvis_y [m] and pelvis_rotation [deg] of
 :data:`ergosim.posture.STANCE`). A cell gives it in ``[worker]`` (``standing_area``, ``max_turn``); by default
-it is the floor within one step of the spot that the body can occupy: a square of ``max_step`` either way,
+it is the floor within one step of the spot that the body can occupy: a square of one step either way,
 cut back where the body (a disc of :data:`BODY_RADIUS` times the stature around the pelvis) would enter a
-table's or shelf's footprint. ``max_step`` is a normal walking step, 0.41 of the stature (*assumed*: the
-common step-length rule, about 0.72 m for a 1.75 m person, halved: the pelvis moves half a step when one
-foot steps out and the other follows); ``max_turn`` 90 deg, the largest single Turn Body of MTM-1 (TBC,
-45-90 deg).
+table's or shelf's footprint. A step is 0.41 of the stature (:data:`STEP_FRACTION`: the common
+step-length rule, about 0.72 m for a 1.75 m person; the body moves a whole step when one foot steps out
+and the other follows); ``max_turn`` 90 deg, the largest single Turn Body of MTM-1 (TBC, 45-90 deg).
+
+**The stance comes first** (:func:`choose_stance`), as in the HUMOSIM framework (Reed, Faraway & Chaffin)
+and the posture prediction of Jack: where the feet go is decided from the target, and the whole-body IK
+then solves the posture for that stance (:mod:`ergosim.worker.ik`). The rules:
+
+- **Face the target** when it lies more than :data:`TURN_FROM_DEG` to the side (MTM-1 Turn Body starts at
+  45 deg; below it the trunk, the neck and the eyes take the turn).
+- **Step towards it** when it lies beyond the arm's reach from the acting shoulder, horizontally
+  (:data:`STEP_FROM_REACH`), so that it ends :data:`WORK_REACH` of the arm's reach from that shoulder; the
+  step stays inside the standing area, which keeps the body clear of the furniture. A target within reach
+  is worked from where the worker stands: the worker never steps away from what it reaches for.
 """
 
 from __future__ import annotations
@@ -22,13 +32,25 @@ import numpy as np
 from ergosim.errors import ConfigError
 
 __all__ = ["StandingArea", "BODY_RADIUS", "STEP_FRACTION", "MAX_TURN_DEG", "area_from_footprints",
-           "area_of_cell", "rotated_footprint"]
+           "area_of_cell", "rotated_footprint", "StanceRule", "choose_stance", "TURN_FROM_DEG",
+           "STEP_FROM_REACH", "WORK_REACH"]
 
 BODY_RADIUS = 0.085
 """The body's half-depth around the pelvis, as a fraction of stature (0.15 m at 1.75 m: the model's spine
 capsule, 0.065 H, plus 0.02 H of clothing and clearance; assumed)."""
-STEP_FRACTION = 0.205
-"""How far the pelvis moves in one step, as a fraction of stature: half a walking step of 0.41 H (assumed)."""
+STEP_FRACTION = 0.41
+"""How far the body moves in one step, as a fraction of stature: a walking step of 0.41 H (the common
+step-length rule; assumed for a worker at a bench)."""
+TURN_FROM_DEG = 45.0
+"""A target more than this far to the side [deg] is faced by turning the body (MTM-1 Turn Body, TBC, from
+45 deg)."""
+STEP_FROM_REACH = 1.0
+"""A target farther than this share of the arm's reach from the acting shoulder, horizontally, is stepped
+towards (assumed: beyond the straight arm's reach only a deep lean would get the hand there)."""
+WORK_REACH = 0.7
+"""The share of the arm's reach, horizontally from the acting shoulder, at which the worker stops before a
+target it steps towards (assumed: the hand then works with the elbow bent, inside the comfortable reach
+envelope)."""
 KNEE_FRACTION, SHOULDER_FRACTION = 0.285, 0.818
 """Knee and shoulder heights as fractions of stature (Drillis & Contini): furniture between them blocks the
 body."""
@@ -139,3 +161,41 @@ def area_of_cell(spec, stature: float) -> StandingArea:
     feet = [rotated_footprint(c[:2], h[:2], 0.0, w.xy, w.yaw)
             for f in spec.furniture for c, h in f.boxes() if c[2] - h[2] < high and c[2] + h[2] > low]
     return area_from_footprints(feet, stature, turn)
+
+
+@dataclasses.dataclass(frozen=True)
+class StanceRule:
+    """What the stance rules need of the body [m]: the arm's reach (shoulder to the grasp point with the
+    arm straight), the acting shoulder's offset to the left of the midline (negative for the right arm),
+    and the knee's height (below it the worker squats, :func:`ergosim.worker.ik_prior.squat_prior`)."""
+
+    arm_reach: float
+    shoulder_y: float
+    knee_height: float
+
+
+def choose_stance(point: np.ndarray, rule: StanceRule, area: StandingArea) -> np.ndarray:
+    """(pelvis_x, pelvis_y [m], pelvis_rotation [deg]) from which to reach ``point`` (3,) [m, the worker's
+    frame], by the rules of the module docstring, within ``area`` (a planted area keeps the spot)."""
+    if area.is_planted:
+        return np.zeros(3)
+    az = math.degrees(math.atan2(point[1], point[0]))
+    turn = az if abs(az) > TURN_FROM_DEG else 0.0
+    turn = min(max(turn, area.turn[0]), area.turn[1])
+    c, s = math.cos(math.radians(turn)), math.sin(math.radians(turn))
+    shoulder = np.array([-s * rule.shoulder_y, c * rule.shoulder_y])
+    to_point = np.asarray(point[:2], dtype=float) - shoulder
+    dist = float(np.linalg.norm(to_point))
+    if dist <= STEP_FROM_REACH * rule.arm_reach:
+        return np.array([0.0, 0.0, turn])
+    direction = to_point / dist
+    step = direction * (dist - WORK_REACH * rule.arm_reach)
+    # stay in the area along the line of the step (never past its edge, never backwards)
+    scale = 1.0
+    for k, (lo, hi) in enumerate((area.x, area.y)):
+        if step[k] > 1e-12:
+            scale = min(scale, hi / step[k])
+        elif step[k] < -1e-12:
+            scale = min(scale, lo / step[k])
+    step = step * max(scale, 0.0)
+    return np.array([step[0], step[1], turn])

@@ -32,8 +32,9 @@ class Subject:
 
     stature [m]; ``scale``: per-segment multipliers (name, factor) pairs; ``speed``: movement-speed factor
     (> 1 faster); ``trunk_use``: posture style, > 1 stoops/twists sooner, < 1 reaches with the arm;
-    ``elbow_comfort_deg``: how straight an arm may get before the trunk helps; ``eye_down_deg``: downward
-    gaze taken by the eyes before the neck flexes; ``noise_deg``: white sensor noise; ``bias_deg``: drift of
+    ``elbow_comfort_deg``: how straight an arm may get before the trunk helps; ``eye_down_deg``: the
+    preferred declination of the line of sight, taken by the eyes before the neck flexes (Hill & Kroemer
+    1986); ``noise_deg``: white sensor noise; ``bias_deg``: drift of
     the sensor bias; ``variability_deg``: trial-to-trial variation of the preferred posture;
     ``timing_variability``: trial-to-trial variation of each movement's duration, the sigma of a log-normal
     factor (0.01 ~ +-1 %; 0 = the same timing every execution);
@@ -46,7 +47,7 @@ class Subject:
     speed: float = 1.0
     trunk_use: float = 1.0
     elbow_comfort_deg: float = 25.0
-    eye_down_deg: float = 20.0
+    eye_down_deg: float = 29.0
     noise_deg: float = 1.0
     bias_deg: float = 1.5
     variability_deg: float = 0.6
@@ -122,7 +123,9 @@ def make_subject(rng: np.random.Generator, name: str = "S01", kwear: Mapping[str
         speed=pace * float(np.clip(rng.normal(1.0, 0.12), 0.75, 1.3)),
         trunk_use=float(np.clip(rng.lognormal(0.0, 0.2), 0.65, 1.6)),
         elbow_comfort_deg=float(np.clip(rng.normal(25.0, 5.0), 12.0, 40.0)),
-        eye_down_deg=float(np.clip(rng.normal(20.0, 4.0), 10.0, 30.0)),
+        # Hill & Kroemer (1986): preferred line of sight 29 +- 12 deg below the head's horizontal; clipped
+        # to one standard deviation either way
+        eye_down_deg=float(np.clip(rng.normal(29.0, 12.0), 17.0, 41.0)),
         noise_deg=float(np.clip(rng.normal(1.0, 0.3), 0.3, 2.0)),
         bias_deg=float(np.clip(rng.normal(1.5, 0.5), 0.3, 3.0)),
         # Trial-to-trial variability, calibrated against §7.2: "repeat each action η = 3 times, which
