@@ -23,7 +23,8 @@ from ergosim.worker.obstacles import ik_model
 
 ROT = Rotation.from_euler("xyz", [170.0, 10.0, -30.0], degrees=True).as_matrix()
 BENCH = (np.array([0.62, 0.0, 0.88]), np.array([0.32, 0.5, 0.02]), 0.0)
-PROBLEMS = {  # name: (side, target [m], target_rot, gaze point [m] or None, stance (x, y, turn), squat, max_iter)
+# name: (side, target [m], target_rot, gaze point [m] or None, stance (x, y, turn), squat, max_iter)
+PROBLEMS = {
     "reach": ("right", (0.45, -0.2, 1.0), None, None, (0.0, 0.0, 0.0), False, None),
     "grip_6d": ("right", (0.35, -0.25, 0.75), ROT, None, (0.0, 0.0, 0.0), False, 40),
     "gaze_aside": ("left", (0.4, 0.3, 1.2), None, (0.3, 1.2, 1.7), (0.0, 0.0, 0.0), False, None),

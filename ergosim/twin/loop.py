@@ -19,9 +19,9 @@ import numpy as np
 from ergosim.ergonomics.risk_index import RiskIndex
 from ergosim.errors import ModelError
 from ergosim.posture import KWEAR_JOINTS, STANCE
-from ergosim.worker.motion import WORKER_MEASURES
 from ergosim.twin.records import TICK_COLUMNS, TickLog
 from ergosim.twin.worker_track import WorkerTrack
+from ergosim.worker.motion import WORKER_MEASURES
 
 __all__ = ["Plant", "PlantHook", "PLANT_HOOKS"]
 

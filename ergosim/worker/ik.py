@@ -297,7 +297,8 @@ class WholeBodyIK:
         pos = float(np.linalg.norm(self.data.site_xpos[s] - target))
         rot = 0.0
         if target_rot is not None:
-            rot = float(np.rad2deg(np.linalg.norm(log_so3(target_rot @ self.data.site_xmat[s].reshape(3, 3).T))))
+            hand_rot = self.data.site_xmat[s].reshape(3, 3)
+            rot = float(np.rad2deg(np.linalg.norm(log_so3(target_rot @ hand_rot.T))))
         return pos, rot
 
     # -- forward kinematics ----------------------------------------------------------------------------------

@@ -24,7 +24,7 @@ import numpy as np
 from ergosim.posture import HUMAN_JOINTS
 from ergosim.worker.ik import IKSolution, WholeBodyIK, log_so3
 from ergosim.worker.ik_prior import IKPrior, squat_prior
-from ergosim.worker.stance import StandingArea, StanceRule, choose_stance
+from ergosim.worker.stance import StanceRule, StandingArea, choose_stance
 
 __all__ = ["KEY_NAMES", "KeyPoses", "plan_keyposes", "approach_point"]
 

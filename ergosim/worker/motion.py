@@ -31,7 +31,7 @@ from ergosim.worker.ik import WholeBodyIK
 from ergosim.worker.keyposes import plan_keyposes
 from ergosim.worker.minimum_jerk import interpolate_keyframes
 from ergosim.worker.obstacles import IKModel, clearance, ik_model
-from ergosim.worker.stance import StandingArea, StanceRule, area_from_footprints, area_of_cell
+from ergosim.worker.stance import StanceRule, StandingArea, area_from_footprints, area_of_cell
 from ergosim.worker.subjects import Subject, rest_angles
 
 __all__ = ["SceneView", "Phase", "ActionMotion", "Worker", "WORKER_MEASURES"]
