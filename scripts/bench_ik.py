@@ -1,97 +1,110 @@
-"""Benchmark the worker's whole-body IK: time per ``WholeBodyIK.solve`` over a fixed set of problems.
+"""Benchmark the worker's planning: time to plan one action (stance, whole-body IK at the key poses, the
+transitions), side by side with another git revision.
 
-The problems are a grid of hand targets in front of and beside a 1.75 m subject, each solved planted and
-free to step, position-only and with a held orientation (the solves of :mod:`ergosim.worker.keyposes`).
-Prints JSON: the median time per solve [ms] (the median over problems of each problem's median over
-``--repeats``) and the total of the per-problem medians. With ``--baseline REV`` the solver modules of that
-git revision (ik.py, ik_cost.py, gaze.py) run side by side, interleaved problem by problem so both see the
-same machine load; the JSON then holds both, the speed-up, and whether every output is bit-identical.
+Plans every action of the bundled cells (kwear-validation, multi-subject, gearbox) for subject S01 of seed 0,
+each part where the cell starts it, ``--repeats`` times. With ``--baseline REV`` the same plans run in a
+checkout of REV (a temporary git worktree), each repeat of each tree in its own process, the two trees
+interleaved repeat by repeat so both see the same machine load. Prints JSON: per tree the median over
+repeats of the total planning time [s] and of the median time per action [ms], and the ratio baseline /
+current (> 1: the current tree plans faster).
 
-    python scripts/bench_ik.py [--repeats 5] [--baseline main] [--json PATH]
+    python scripts/bench_ik.py [--repeats 5] [--baseline 6df92f7] [--json PATH]
 """
 
 from __future__ import annotations
 
 import argparse
-import itertools
 import json
+import os
 import statistics
-import time
-import types
-
-import numpy as np
-from scipy.spatial.transform import Rotation
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
 
 from ergosim.atomic import write_json
-from ergosim.human import human_spec
-from ergosim.revision import modules_at
-from ergosim.worker import StandingArea, rest_angles
-from ergosim.worker import ik as current_ik
-from ergosim.worker.ik_prior import default_prior
 
-FREE = StandingArea((-0.3, 0.15), (-0.35, 0.35), (-90.0, 90.0))
-GRIP = Rotation.from_euler("xyz", [180.0, 0.0, -20.0], degrees=True).as_matrix()
+ROOT = Path(__file__).resolve().parents[1]
+CELLS = ("kwear-validation", "multi-subject", "gearbox")
+
+# Run in a fresh interpreter whose ergosim is the tree on PYTHONPATH; prints per-action seconds as JSON.
+_PLAN = r"""
+import json, sys, time
+import numpy as np
+from ergosim.scenes.cellbuild import action_geometry
+from ergosim.scenes.registry import build_scene
+from ergosim.worker.motion import Worker
+from ergosim.worker.subjects import make_subjects
+
+subject = make_subjects(1, 0)[0]
+out = {}
+for name in sys.argv[1:]:
+    cell = build_scene(name, stature=subject.stature, human_scale=subject.scale)
+    worker = Worker(subject)
+    geoms = action_geometry(cell.config)
+    rng = np.random.default_rng(0)
+    worker.plan(cell, geoms[cell.config.actions[0].label], rng)  # warm-up: the cell's IK model is built once
+    for action in cell.config.actions:
+        t0 = time.perf_counter()
+        worker.plan(cell, geoms[action.label], rng, action=action.label)
+        out[f"{name}/{action.label}"] = time.perf_counter() - t0
+print(json.dumps(out))
+"""
 
 
-def problems() -> list[tuple]:
-    """(target (3,) [m], target_rot or None, area or None, max_iter or None), 108 of them."""
-    out = []
-    for x, y, z in itertools.product((0.25, 0.45, 0.65), (-0.45, -0.1, 0.3), (0.3, 0.9, 1.4)):
-        for area in (None, FREE):
-            out.append((np.array([x, y, z]), None, area, None))
-            out.append((np.array([x, y, z]), GRIP, area, 40))
-    return out
+def _plan_times(tree: Path) -> dict[str, float]:
+    env = {**os.environ, "PYTHONPATH": str(tree)}
+    done = subprocess.run([sys.executable, "-c", _PLAN, *CELLS], env=env, capture_output=True, text=True,
+                          check=True, cwd=tree)
+    return json.loads(done.stdout.strip().splitlines()[-1])
 
 
-def solver_module(rev: str) -> types.ModuleType:
-    """The IK module of git revision ``rev``, its cost and gaze modules loaded under private names."""
-    return modules_at(rev, "ergosim.worker", ("gaze", "ik_cost", "ik"))["ik"]
+def _summary(runs: list[dict[str, float]]) -> dict:
+    totals = [sum(r.values()) for r in runs]
+    per_action = [statistics.median(r.values()) * 1e3 for r in runs]
+    return {"actions": len(runs[0]), "total_s": statistics.median(totals),
+            "median_action_ms": statistics.median(per_action), "repeats": len(runs)}
 
 
 def run(repeats: int, baseline: str | None) -> dict:
-    model = human_spec(1.75).compile()
-    impls = {"current": current_ik}
+    trees = {"current": ROOT}
+    tmp = None
     if baseline:
-        impls["baseline"] = solver_module(baseline)
-    solvers = {k: m.WholeBodyIK(model, default_prior()) for k, m in impls.items()}
-    rest = np.concatenate([rest_angles(), np.zeros(4)])
-    probs = problems()
-    times = {k: [[] for _ in probs] for k in impls}
-    outputs = {k: [None] * len(probs) for k in impls}
-    for _ in range(repeats):
-        for i, (target, rot, area, max_iter) in enumerate(probs):
-            for k, ik in solvers.items():
-                t0 = time.perf_counter()
-                sol = ik.solve(rest, target, "right", target_rot=rot, area=area, max_iter=max_iter)
-                times[k][i].append(time.perf_counter() - t0)
-                outputs[k][i] = sol
-    res: dict = {"problems": len(probs), "repeats": repeats}
-    for k in impls:
-        per = [statistics.median(t) for t in times[k]]
-        res[k] = {"median_solve_ms": 1e3 * statistics.median(per), "total_s": sum(per),
-                  "mean_iterations": statistics.mean(s.iterations for s in outputs[k])}
+        tmp = tempfile.mkdtemp(prefix="ergosim-baseline-")
+        subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", tmp, baseline], check=True,
+                       capture_output=True)
+        trees["baseline"] = Path(tmp)
+    try:
+        runs: dict[str, list] = {k: [] for k in trees}
+        for _ in range(repeats):
+            for name, tree in trees.items():
+                runs[name].append(_plan_times(tree))
+    finally:
+        if tmp:
+            subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", tmp], check=False,
+                           capture_output=True)
+    out = {name: _summary(r) for name, r in runs.items()}
     if baseline:
-        res["baseline_rev"] = baseline
-        res["speedup_median"] = res["baseline"]["median_solve_ms"] / res["current"]["median_solve_ms"]
-        res["speedup_total"] = res["baseline"]["total_s"] / res["current"]["total_s"]
-        res["bit_identical"] = all(
-            a.body.tobytes() == b.body.tobytes() and a.iterations == b.iterations
-            and all(float(x).hex() == float(y).hex() for x, y in zip(a[1:], b[1:], strict=True))
-            for a, b in zip(outputs["current"], outputs["baseline"], strict=True))
-    return res
+        out["baseline"]["revision"] = baseline
+        out["ratio_total"] = out["baseline"]["total_s"] / out["current"]["total_s"]
+        out["ratio_median_action"] = out["baseline"]["median_action_ms"] / out["current"]["median_action_ms"]
+    out["load_average"] = os.getloadavg()
+    return out
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--repeats", type=int, default=5, help="solves of each problem (medians)")
-    parser.add_argument("--baseline", help="git revision whose IK runs side by side (e.g. main)")
-    parser.add_argument("--json", dest="json_path", help="also write the result to this file")
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--baseline", default=None, help="git revision to run side by side")
+    parser.add_argument("--json", type=Path, default=None, help="also write the JSON here")
     args = parser.parse_args()
-    res = run(args.repeats, args.baseline)
-    print(json.dumps(res, indent=2))
-    if args.json_path:
-        write_json(args.json_path, res)
+    result = run(args.repeats, args.baseline)
+    text = json.dumps(result, indent=2)
+    print(text)
+    if args.json:
+        write_json(args.json, result)
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    raise SystemExit(main())

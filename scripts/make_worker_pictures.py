@@ -2,10 +2,11 @@
 
     python scripts/make_worker_pictures.py [--out docs/img] [--seed 0]
 
-Writes ``worker_multi_subject.png`` (a1, J from the side table; a2, L, the farthest piece, into the upper
-hollow), ``worker_kwear_validation.png`` (a1, J from the top ledge; a5, the assembly onto the lower ledge),
-each action at the part, mid-carry and at its target, and ``worker_video_frame.png``: a frame of the
-multi-subject HRC video (subject 0, the worker fetching J in repetition 1), with the video's overlay.
+Writes ``worker_multi_subject.png`` and ``worker_kwear_validation.png`` (a1, a2 and a5 of the paper's two
+cells), ``worker_pcb_enclosure.png`` (examples/pcb_enclosure: p1, the tray from the low bin; p3, the cover
+from the 1.6 m shelf; p4, a screw on the bench), each action at the part, mid-carry and at its target, from
+three quarters and from the side, and ``worker_video_frame.png``: a frame of the multi-subject HRC video
+(subject 0, the worker fetching J in repetition 1), with the video's overlay.
 """
 
 from __future__ import annotations
@@ -27,12 +28,17 @@ from ergosim.video.still import render_still  # noqa: E402
 from ergosim.video.worker_stills import render_action_stills  # noqa: E402
 from ergosim.worker import Worker  # noqa: E402
 
-DEFAULT_OUT = Path(__file__).resolve().parents[1] / "docs" / "img"
-STILLS = {"multi-subject": (("a1", "a2"), None), "kwear-validation": (("a1", "a5"), "front")}
-"""scenario -> (actions, the cell's camera view; None: its first)"""
+ROOT = Path(__file__).resolve().parents[1]
+DEFAULT_OUT = ROOT / "docs" / "img"
+STILLS = {"multi-subject": ("a1", "a2", "a5"), "kwear-validation": ("a1", "a2", "a5"),
+          str(ROOT / "examples" / "pcb_enclosure" / "pcb.toml"): ("p1", "p3", "p4")}
+"""scenario -> the actions drawn"""
+CAMERAS = {"three-quarter": dict(azimuth=215.0, elevation=-22.0, distance=2.6, lookat=(0.25, 0.0, 0.95)),
+           "side": dict(azimuth=90.0, elevation=-8.0, distance=2.8, lookat=(0.25, 0.0, 0.95))}
+"""The two views of each action: from the front left, and from the worker's right side."""
 
 
-def _stills(scenario_name: str, actions: tuple[str, ...], view: str | None, seed: int) -> np.ndarray:
+def _stills(scenario_name: str, actions: tuple[str, ...], seed: int) -> np.ndarray:
     scenario = load_scenario(scenario_name)
     subject = scenario_subject(scenario, 0, seed)
     cell = subject_cell(scenario, subject)
@@ -42,8 +48,9 @@ def _stills(scenario_name: str, actions: tuple[str, ...], view: str | None, seed
     for name, geom in cell.actions.items():
         if name in actions:
             motion = worker.plan(cell, geom, rng, action=name)
-            rows.append(render_action_stills(cell, motion, geom.target, view=view,
-                                             title=f"{scenario_name} {name}: {motion.mtm}"))
+            for view, camera in CAMERAS.items():
+                rows.append(render_action_stills(cell, motion, geom.target, camera=camera,
+                                                 title=f"{scenario.name} {name} ({view}): {motion.mtm}"))
             cell.reset()
             for done, g in cell.actions.items():  # the scene as the task leaves it before the next action
                 if done == name:
@@ -63,9 +70,9 @@ def main() -> int:
     p.add_argument("--seed", type=int, default=0)
     a = p.parse_args()
     a.out.mkdir(parents=True, exist_ok=True)
-    for scenario_name, (actions, view) in STILLS.items():
-        path = a.out / f"worker_{scenario_name.replace('-', '_')}.png"
-        Image.fromarray(_stills(scenario_name, actions, view, a.seed)).save(path)
+    for scenario_name, actions in STILLS.items():
+        path = a.out / f"worker_{load_scenario(scenario_name).name.replace('-', '_')}.png"
+        Image.fromarray(_stills(scenario_name, actions, a.seed)).save(path)
         print(f"wrote {path}")
     scenario = load_scenario("multi-subject", {"subjects": "1", "repetitions": "1", "modes": "hrc"})
     run = run_subject(scenario, 0, a.seed, ("hrc",), record_mode="hrc").runs["hrc"]

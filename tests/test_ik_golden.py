@@ -41,11 +41,11 @@ GOLDEN = {  # (iterations, pos_error, rot_error_deg, cost, digest of the body): 
     'gaze_aside':
         (25, '0x1.fece19f4e5c43p-17', '0x0.0p+0', '0x1.65122831d29e4p+2', '135f3ed38580ad97'),
     'grip_6d':
-        (28, '0x1.18d9c6f121f52p-11', '0x1.1fb7117d1d838p+1', '0x1.032a62871b605p+6', 'fbc615da3c15372d'),
+        (43, '0x1.2217f124fc294p-11', '0x1.2b55b168b7838p+1', '0x1.039c12aef5d55p+6', 'e92381e289c4c5ca'),
     'grip_6d_turned':
         (25, '0x1.5bc06fbca08aep-13', '0x1.95a42233370acp-1', '0x1.3e1ec0085f7dfp+5', 'd37604d03c9cdbe3'),
     'low':
-        (30, '0x1.6f423516364cap-12', '0x0.0p+0', '0x1.2457bfdb481eap+4', '75f9ef117cee92b5'),
+        (70, '0x1.832279a455619p-7', '0x0.0p+0', '0x1.34d03d3544775p+4', '35c46cef077c32f4'),
     'out_of_reach':
         (60, '0x1.518727bc2ce39p-5', '0x0.0p+0', '0x1.05a5b7a595ba0p+7', '7e7c066f6b0a4145'),
     'over_the_bench':

@@ -185,7 +185,8 @@ def check_reachability(scenario, task: AndOrGraph, cell) -> list[str]:
     home (reach, grasp, the carry at the cell's carry height, the approach or insertion along the slot's
     axis, the way out: every waypoint needs an IK solution) and must not need to tilt the part
     (:func:`_robot_turn`); the worker's part and target must be in reach of a nominal worker of the cell's
-    stature (:func:`_human_reach`). An action no allowed agent can do, or a robot that can do none of its
+    stature, by the run's own worker planner (:func:`_human_reach`). An action no allowed agent can
+    do, or a robot that can do none of its
     actions, is a ConfigError naming the agent, the part, the action and why (for the robot, the point with
     no IK solution). A robot's contract (:func:`robot_refusals`: gripper, payload, reach, hand-over
     clearance) comes first: an action it refuses is the worker's for the whole run. Returns those refusals,
@@ -212,14 +213,14 @@ def check_reachability(scenario, task: AndOrGraph, cell) -> list[str]:
             target = start.target(geom, state)[0]
             able, why = [], {}
             agents = sorted(allowed.get(action, ()))
-            if any(a in robots for a in agents):
-                _lay_parts(cell, state, seated)
+            _lay_parts(cell, state, seated)
             for agent in agents:
                 if agent == human:
-                    if all(reach_human(p) for p in (part_pos, target)):
+                    worker_why = reach_human(geom)
+                    if worker_why is None:
                         able.append(agent)
                     else:
-                        why[agent] = "out of the worker's reach"
+                        why[agent] = worker_why
                 elif agent in robots:
                     tried[agent] += 1
                     reason = (_robot_turn(start, geom, state, cell.config.seat_tolerance_deg)
@@ -260,26 +261,25 @@ def check_reachability(scenario, task: AndOrGraph, cell) -> list[str]:
 
 
 def _human_reach(cell):
-    """A reach test for the cell's worker: within the arm's length of either shoulder, plus a trunk lean
-    for a point level with or below the shoulder."""
-    from ergosim.human.model import SHOULDER_BODIES  # noqa: PLC0415
+    """The worker's reach test, the run's own: a nominal worker of the cell's stature plans the action with
+    the same planner as the run (:class:`~ergosim.worker.motion.Worker`: the stance chosen first, the
+    whole-body IK) from the cell as the earlier actions leave it. The action is reachable when the hand gets
+    to the part and to the target within the cell's grasp tolerance. Returns ``reason(geom)``: None, or
+    where the hand stops short."""
+    from ergosim.worker.motion import Worker  # noqa: PLC0415
+    from ergosim.worker.subjects import Subject  # noqa: PLC0415
 
-    stature = cell.config.worker.stature
-    shoulders = [cell.body_pose(b)[0] for b in SHOULDER_BODIES.values()]
-    # Arm length, shoulder to grip centre, ~0.36 of stature (Drillis & Contini segment proportions); bending
-    # and twisting the trunk adds up to ~0.25 of stature of reach (assumed lean allowance, generous: the
-    # worker's IK decides the rest at run time). A lean takes the shoulder forward, sideways and down, not
-    # up: the allowance shrinks with the point's elevation above the shoulder and is gone straight
-    # overhead, where the reach is the arm's (overhead grip reach ~1.2 of stature: shoulder height 0.818
-    # + arm 0.36, Drillis & Contini).
-    arm, lean = 0.36 * stature, 0.25 * stature
+    w = cell.config.worker
+    subject = Subject("nominal", stature=w.stature, scale=tuple(w.human_scale), variability_deg=0.0,
+                      timing_variability=0.0, handedness=w.hand)
+    worker = Worker(subject)
+    tolerance = cell.config.grasp_tolerance
 
-    def reach(point: np.ndarray) -> bool:
-        for s in shoulders:
-            d = np.asarray(point) - s
-            dist = float(np.linalg.norm(d))
-            if dist <= arm + lean * (1.0 - max(0.0, d[2]) / max(dist, 1e-9)):
-                return True
-        return False
+    def reason(geom) -> str | None:
+        motion = worker.plan(cell, geom, np.random.default_rng(0), action=geom.action)
+        for error, what in ((motion.reach_error, "the part"), (motion.place_error, "the target")):
+            if error > tolerance:
+                return f"out of the worker's reach: the hand stops {error * 100:.0f} cm short of {what}"
+        return None
 
-    return reach
+    return reason

@@ -74,10 +74,12 @@ def _pose_part(cell: Workcell, motion: ActionMotion, k: int, grasp_k: int, at_gr
 
 
 def render_action_stills(cell: Workcell, motion: ActionMotion, target: str, *, view: str | None = None,
-                         width: int = 480, height: int = 400, title: str = "") -> np.ndarray:
+                         width: int = 480, height: int = 400, title: str = "",
+                         camera: dict | None = None) -> np.ndarray:
     """(height + caption, 3 width, 3) uint8: ``motion`` (planned in ``cell`` as it is now) at the three
     :func:`action_moments`, side by side, each captioned; at the last one the part is on its ``target`` site
-    (it may have turned in the hand on the way)."""
+    (it may have turned in the hand on the way). ``camera``: azimuth, elevation, distance, lookat overriding
+    the cell's ``view``."""
     at_grasp = {b: tuple(np.array(x) for x in cell.body_pose(b)) for b in cell.assembly(motion.part)}
     grasp_k = int(np.searchsorted(motion.t, motion.t_grasp))
     _, grand, _ = score_frames(motion.angles)
@@ -88,8 +90,9 @@ def render_action_stills(cell: Workcell, motion: ActionMotion, target: str, *, v
         cell.human.pose(cell.data, body_qpos(motion.angles[k], motion.stances[k]))
         _pose_part(cell, motion, k, grasp_k, at_grasp, target if i == len(moments) - 1 else None)
         mujoco.mj_kinematics(cell.model, cell.data)
-        image = Image.fromarray(render_workcell(cell, width=width, height=height, view=view))
-        x, y, turn, knee = motion.stances[k]
+        image = Image.fromarray(render_workcell(cell, width=width, height=height, view=view,
+                                                **(camera or {})))
+        x, y, turn, knee = motion.stances[k][:4]
         caption = (f"{label}  t = {motion.t[k]:.1f} s  RULA {grand[k]:.0f}\n"
                    f"step ({x:+.2f}, {y:+.2f}) m  turn {turn:+.0f}°  knees {knee:.0f}°")
         band = Image.new("RGB", (width, 44), (250, 250, 250))

@@ -24,7 +24,7 @@ import numpy as np
 
 from ergosim.human.model import ROOT_BODY
 
-__all__ = ["BALANCE_MARGIN", "FOOT_WIDTH", "SupportPolygon", "BalanceLimit", "support_margin"]
+__all__ = ["BALANCE_MARGIN", "FOOT_WIDTH", "SupportPolygon", "BalanceLimit", "support_margin", "rebalance"]
 
 BALANCE_MARGIN = 0.02
 """m the centre of mass keeps from the edge of the base of support (assumed: a small static margin for a
@@ -96,3 +96,40 @@ def support_margin(model: mujoco.MjModel, data: mujoco.MjData, polygon: SupportP
     """:meth:`SupportPolygon.margin` after ``mj_comPos`` (the kinematics must be current)."""
     mujoco.mj_comPos(model, data)
     return polygon.margin(data)
+
+
+def rebalance(ik, bodies: np.ndarray, iterations: int = 6) -> np.ndarray:
+    """``bodies`` (n, 27) with every frame out of balance brought back over the feet by the shanks' lean
+    (the ankle, which moves the hips forward or back with the knees as they are): a standing person shifts
+    the hips to keep the centre of mass over the feet throughout a movement, not only at its key postures.
+    A transition between two balanced postures in joint space need not be balanced; this is the correction
+    (a few Newton steps on the ankle per frame, :data:`BALANCE_MARGIN` inside the base of support)."""
+    out = np.array(bodies, dtype=float)
+    margins = ik.balance_path(out)
+    ankle = out.shape[1] - 1
+    lo, hi = ik.clip(np.full(out.shape[1], -1e9))[ankle], ik.clip(np.full(out.shape[1], 1e9))[ankle]
+    for k in np.flatnonzero(margins < 0.0):
+        for _ in range(iterations):
+            x0, bound = _com_x(ik, out[k])
+            if bound is None:
+                break
+            trial = out[k].copy()
+            trial[ankle] += 0.5
+            x1, _ = _com_x(ik, trial)
+            slope = (x1 - x0) / 0.5
+            if abs(slope) < 1e-6:
+                break
+            out[k, ankle] = float(np.clip(out[k, ankle] + (bound - x0) / slope, lo, hi))
+    return out
+
+
+def _com_x(ik, body: np.ndarray) -> tuple[float, float | None]:
+    """The centre of mass along the feet [m] and the nearest point it should move to (None: it is already
+    inside the base of support with the margin)."""
+    ik._fk(ik.qpos(body))
+    mujoco.mj_comPos(ik.model, ik.data)
+    com, _, (lo, hi) = ik.support.com_local(ik.data)
+    lo, hi = lo[0] + BALANCE_MARGIN, hi[0] - BALANCE_MARGIN
+    if lo <= com[0] <= hi:
+        return float(com[0]), None
+    return float(com[0]), float(min(max(com[0], lo), hi))

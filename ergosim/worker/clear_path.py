@@ -43,7 +43,10 @@ VIA_ABOVE = 0.08
 a hand's width)."""
 NEAR = 0.15
 """m: furniture within this horizontal distance of the hand's midway point counts as under it."""
-MAX_PUSHES = 3
+MAX_PUSHES = 5
+PEAK_RANGE = (0.1, 0.9)
+"""Where a push's bump may peak within a transition: a frame closer to a key pose is pushed by a bump that
+peaks here, scaled so that frame gets the whole correction."""
 MAX_LIFTS = 4
 
 
@@ -85,22 +88,34 @@ def _clearances(ik: WholeBodyIK, bodies: np.ndarray, built: IKModel) -> np.ndarr
 
 
 def _min_clearance(ik: WholeBodyIK, bodies: np.ndarray, built: IKModel) -> float:
+    """The smallest clearance along ``bodies``; -inf where one of them is out of balance (such a transition
+    is never the better one)."""
+    if float(ik.balance_path(bodies).min()) < 0.0:
+        return -np.inf
     return float(_clearances(ik, bodies, built).min())
 
 
 def _push_out(ik: WholeBodyIK, seg: np.ndarray, tau: np.ndarray, side: str, prior: IKPrior,
-              built: IKModel) -> np.ndarray:
+              built: IKModel) -> tuple[float, np.ndarray]:
     """``seg`` (m, 27), one transition's postures at normalised times ``tau``, bent out of the furniture
-    where it passes through it (the module docstring)."""
+    where it passes through it (the module docstring): (its smallest clearance, the postures). A push that
+    does not leave the transition clearer is not kept."""
+    clear = _clearances(ik, seg, built)
     for _ in range(MAX_PUSHES):
-        clear = _clearances(ik, seg, built)
         worst = int(np.argmin(clear))
         if clear[worst] >= 0.0 or not 0.0 < tau[worst] < 1.0:
             break
         hand = ik.hand_pos(seg[worst], side)
         out = ik.solve(seg[worst], hand, side, prior=prior, max_iter=30).body
-        seg = seg + (out - seg[worst])[None, :] * peak(tau, float(tau[worst]))[:, None]
-    return seg
+        at = float(np.clip(tau[worst], *PEAK_RANGE))
+        weight = peak(tau, at)
+        weight = weight / max(float(weight[worst]), 1e-3)
+        trial = ik.clip(seg + (out - seg[worst])[None, :] * np.minimum(weight, 1.0)[:, None])
+        trial_clear = _clearances(ik, trial, built)
+        if trial_clear.min() <= clear.min() or ik.balance_path(trial).min() < 0.0:
+            break
+        seg, clear = trial, trial_clear
+    return float(clear.min()), seg
 
 
 def clear_transitions(ik: WholeBodyIK, key_t: np.ndarray, keys: np.ndarray, t: np.ndarray, body: np.ndarray,
@@ -116,7 +131,8 @@ def clear_transitions(ik: WholeBodyIK, key_t: np.ndarray, keys: np.ndarray, t: n
         inside = (t >= t0) & (t <= t1)
         if t1 <= t0 or not inside.any():
             continue
-        if _min_clearance(ik, out[inside][::2], built) >= 0.0:
+        start = _min_clearance(ik, out[inside], built)
+        if start >= 0.0:
             continue
         tau = (t[inside] - t0) / (t1 - t0)
         mid = 0.5 * (keys[k] + keys[k + 1])
@@ -126,11 +142,14 @@ def clear_transitions(ik: WholeBodyIK, key_t: np.ndarray, keys: np.ndarray, t: n
         for lift in range(MAX_LIFTS):
             via = ik.solve(mid, np.array([hand[0], hand[1], top + VIA_ABOVE + lift * LIFT_STEP]), side,
                            prior=prior, max_iter=30, collide=False).body
-            trial = body[inside] + (via - mid)[None, :] * bump(tau)[:, None]
-            clear = _min_clearance(ik, trial[::2], built)
+            trial = ik.clip(body[inside] + (via - mid)[None, :] * bump(tau)[:, None])
+            clear = _min_clearance(ik, trial, built)
             if best is None or clear > best[0]:
                 best = (clear, trial)
             if clear >= 0.0:
                 break
-        out[inside] = best[1] if best[0] >= 0.0 else _push_out(ik, best[1], tau, side, prior, built)
+        if best[0] < 0.0:
+            best = max(best, _push_out(ik, best[1], tau, side, prior, built), key=lambda b: b[0])
+        if best[0] > start:  # a via or a push that leaves the transition no clearer is not kept
+            out[inside] = best[1]
     return out

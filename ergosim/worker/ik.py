@@ -40,7 +40,7 @@ from ergosim.posture import ARM, HUMAN_JOINTS, STANCE
 from ergosim.worker.balance import BalanceLimit, SupportPolygon
 from ergosim.worker.ik_prior import BODY, IKPrior, default_prior
 from ergosim.worker.ik_tasks import ComfortTask, GazeTask, LegCoupling
-from ergosim.worker.obstacles import ClearanceLimit, IKModel, clearance
+from ergosim.worker.obstacles import ClearanceLimit, ClearanceTask, IKModel, clearance
 
 __all__ = ["IKSolution", "WholeBodyIK", "log_so3"]
 
@@ -116,6 +116,10 @@ class WholeBodyIK:
         h = self.human
         self.body_qadr = np.concatenate([h.qadr, h.stance_qadr])
         self.body_dof = np.array([model.jnt_dofadr[model.joint(n).id] for n in HUMAN_JOINTS + STANCE])
+        ranges = np.array([model.jnt_range[model.joint(n).id] for n in HUMAN_JOINTS + STANCE])
+        hinges = [k for k in range(len(BODY)) if k not in (_IDX["pelvis_x"], _IDX["pelvis_y"])]
+        ranges[hinges] *= 180.0 / np.pi
+        self._body_lo, self._body_hi = ranges[:, 0], ranges[:, 1]
         # the pelvis stands at the hip joint centre's height, 0.530 of stature (Drillis & Contini)
         stature = stature if stature is not None else float(model.body("human_pelvis").pos[2]) / 0.530
         legs = h.legs
@@ -134,8 +138,9 @@ class WholeBodyIK:
                                          BalanceLimit(self.support)]
         self.segments, self.obstacles, self.forearms = tuple(segments), tuple(obstacles), tuple(forearms)
         if self.segments and self.obstacles:
-            self.limits.append(ClearanceLimit(model, IKModel(model, self.segments, self.obstacles,
-                                                              self.forearms)))
+            built = IKModel(model, self.segments, self.obstacles, self.forearms)
+            self.limits.append(ClearanceLimit(model, built))
+            self.clear_task = ClearanceTask(model, built)
         self.hand_task = {side: mink.FrameTask(h.model.site(h.hand_site[side]).name, "site",
                                                position_cost=1.0 / pos_tol, orientation_cost=0.0)
                           for side in ("right", "left")}
@@ -149,6 +154,10 @@ class WholeBodyIK:
         q = self.model.qpos0.copy()
         self.human.write_body(q, body_qpos(body[:_N], body[_N:]))
         return q
+
+    def clip(self, bodies: np.ndarray) -> np.ndarray:
+        """(..., 27) bodies [deg, m] clipped into the joints' ranges."""
+        return np.clip(bodies, self._body_lo, self._body_hi)
 
     def to_body(self, qpos: np.ndarray) -> np.ndarray:
         """The (27,) body [deg, m] of a qpos."""
@@ -196,7 +205,7 @@ class WholeBodyIK:
 
     def _cost(self, tasks: list[mink.Task]) -> tuple[float, float]:
         """(whole cost, posture cost) at the current configuration."""
-        hand, posture, comfort, gaze, com = tasks
+        hand, posture, comfort, gaze, com = tasks[:5]
         e = hand.compute_error(self.config) * hand.cost
         p = posture.compute_error(self.config) * posture.cost
         c = comfort.compute_error(self.config) * comfort.cost
@@ -228,7 +237,7 @@ class WholeBodyIK:
         self._fk(self.qpos(np.asarray(q0, dtype=float)))
         it = self._descend(tasks, constraints, self.limits[:2], max_iter)
         if collide and self.obstacles and self.clearance() < 0.0:
-            it += self._descend(tasks, constraints, self.limits, max_iter, clear=True)
+            it += self._descend(tasks + [self.clear_task], constraints, self.limits[:2], max_iter, clear=True)
         _, posture_cost = self._cost(tasks)
         pos_err, rot_err = self._errors(side, target, target_rot)
         return IKSolution(self.to_body(self.data.qpos), pos_err, rot_err, it, posture_cost)
@@ -269,8 +278,9 @@ class WholeBodyIK:
                 self._fk(q1)
                 c1 = self._merit(tasks, clear)
                 # the first step is taken as the QP gives it: it carries a start that lies outside a hard
-                # limit (the balance, the furniture) back inside, which may cost posture
-                if c1 < c0 or it == 1:
+                # limit (the balance) back inside, which may cost posture; so is every step that pulls the
+                # body out of the furniture (the QP's stiff clearance task leads there, not the merit)
+                if c1 < c0 or it == 1 or clear:
                     accepted = True
                     break
                 step = 0.5 * step
@@ -278,7 +288,9 @@ class WholeBodyIK:
                 self._fk(q_start)
                 break
             fell, c0 = c0 - c1, c1
-            if np.abs(step).max() < _TOL_STEP or fell < _TOL_COST * (1.0 + c1):
+            if clear and self.clearance() < 0.0:
+                continue
+            if np.abs(step).max() < _TOL_STEP or 0.0 <= fell < _TOL_COST * (1.0 + c1):
                 break
         return it
 

@@ -58,6 +58,9 @@ PREFERRED_GAZE_DEG = 29.0
 STOOP_KNEE_DEG = 30.0
 """Knee flexion [deg] a worker reaching above knee height keeps within (a comfort box; assumed: the knees
 bend slightly in a stoop, and MTM-1 counts a Bend past 30 deg, :mod:`ergosim.worker.action_timing`)."""
+DEEP_SQUAT_KNEE_DEG = 110.0
+"""Knee flexion [deg] past which a squat costs like a comfort-box excess (assumed: a full squat, the knee near
+its 135 deg range, is held only briefly)."""
 SQUAT_KNEE_DEG = 60.0
 """Knee flexion [deg] a squatting worker prefers (assumed: a semi-squat; the knees' cost is measured from
 here, the ankles' from half of it, so the hips stay over the feet)."""
@@ -142,5 +145,5 @@ def squat_prior(prior: IKPrior) -> IKPrior:
     pref[_IDX["knee_flexion"]] = SQUAT_KNEE_DEG
     pref[_IDX["ankle_dorsiflexion"]] = 0.5 * SQUAT_KNEE_DEG
     hi_c = prior.comfort_hi.copy()
-    hi_c[_IDX["knee_flexion"]] = 360.0
+    hi_c[_IDX["knee_flexion"]] = DEEP_SQUAT_KNEE_DEG
     return replace(prior, pref=pref, comfort_hi=hi_c)

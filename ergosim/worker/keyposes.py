@@ -90,6 +90,36 @@ def stance_at(rest: np.ndarray, point: np.ndarray, rule: StanceRule, area: Stand
     return start, prior
 
 
+BACK_OFF = 0.08
+"""m a stance steps back towards the spot when the body cannot reach from it without passing through the
+furniture (a squatting worker's knees against a bin; assumed: a short shuffle)."""
+MAX_BACK_OFFS = 3
+
+
+def _clear_of_the_furniture(ik: WholeBodyIK, start: np.ndarray, solve) -> IKSolution:
+    """``solve(start)``; where that posture passes through the furniture, the stance backs off towards the
+    spot by :data:`BACK_OFF` (at most :data:`MAX_BACK_OFFS` times) and the clearest solution is kept: the
+    stance is chosen among candidates, the first clear one winning."""
+    best = solve(start)
+    if not ik.obstacles or ik.clearance() >= 0.0:
+        return best
+    best_clear = ik.clearance()
+    step = start[_N:_N + 2]
+    length = float(np.linalg.norm(step))
+    for k in range(1, MAX_BACK_OFFS + 1):
+        if length <= 0.0:
+            break
+        candidate = start.copy()
+        candidate[_N:_N + 2] = step * max(0.0, 1.0 - k * BACK_OFF / length)
+        sol = solve(candidate)
+        clear = ik.clearance()
+        if clear > best_clear:
+            best, best_clear = sol, clear
+        if clear >= 0.0 or not candidate[_N:_N + 2].any():
+            break
+    return best
+
+
 def plan_keyposes(ik: WholeBodyIK, rest: np.ndarray, part: tuple[np.ndarray, np.ndarray],
                   target: tuple[np.ndarray, np.ndarray], prior: IKPrior, area: StandingArea,
                   side: str, rule: StanceRule, grip: np.ndarray | None = None) -> KeyPoses:
@@ -108,7 +138,7 @@ def plan_keyposes(ik: WholeBodyIK, rest: np.ndarray, part: tuple[np.ndarray, np.
               pr: IKPrior = part_prior, max_iter: int | None = None) -> IKSolution:
         return ik.solve(q0, point, side, target_rot=rot, gaze=look, prior=pr, max_iter=max_iter)
 
-    grasp = solve(at_part, grip_pos, grip_pos)
+    grasp = _clear_of_the_furniture(ik, at_part, lambda q0: solve(q0, grip_pos, grip_pos))
     above_part = approach_point(ik, grip_pos, grasp.body, shoulder)
     lift = solve(grasp.body, above_part, grip_pos)
     straight_in = _on_its_way_in(part, target)
@@ -126,8 +156,9 @@ def plan_keyposes(ik: WholeBodyIK, rest: np.ndarray, part: tuple[np.ndarray, np.
         at_target, tgt_prior = lifted.body, part_prior
     else:
         at_target, tgt_prior = stance_at(lifted.body, grip_tgt, rule, area, prior)
-    kept = solve(at_target, place_pos, tgt_pos, place_rot, tgt_prior, max_iter=40)
-    turned = solve(at_target, grip_tgt, tgt_pos, pr=tgt_prior)
+    kept = _clear_of_the_furniture(
+        ik, at_target, lambda q0: solve(q0, place_pos, tgt_pos, place_rot, tgt_prior, max_iter=40))
+    turned = _clear_of_the_furniture(ik, at_target, lambda q0: solve(q0, grip_tgt, tgt_pos, pr=tgt_prior))
     _, hand_r5 = ik.hand_pose(turned.body, side)
     turn_deg = float(np.rad2deg(np.linalg.norm(log_so3(tgt_rot @ (hand_r5 @ rot_in_hand).T))))
     # the worker keeps the grip unless turning the part in the hand spares more than a neutral zone's worth

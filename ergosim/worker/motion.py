@@ -26,6 +26,7 @@ from ergosim.human.model import ROOT_BODY
 from ergosim.posture import HUMAN_JOINTS, STANCE
 from ergosim.quat import to_mat
 from ergosim.worker.action_timing import action_timing
+from ergosim.worker.balance import rebalance
 from ergosim.worker.clear_path import clear_transitions
 from ergosim.worker.ik import WholeBodyIK
 from ergosim.worker.keyposes import plan_keyposes
@@ -243,6 +244,7 @@ class Worker:
             t = np.append(t, key_t[-1])  # end exactly at rest
         body = interpolate_keyframes(key_t, bodies, t)
         body = clear_transitions(ik, key_t, bodies, t, body, range(len(bodies) - 1), self.side, prior, built)
+        body = rebalance(ik, body)
         hand_world = ik.hand_path(body, self.side) @ r_frame.T + origin
         balance, clear = self._measures(ik, body, built)
         kind_name = "fasten" if getattr(geometry, "turn_time", 0.0) else "insert" if seats else "place"

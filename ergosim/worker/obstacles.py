@@ -18,7 +18,8 @@ import mujoco
 import numpy as np
 from mink.limits.collision_avoidance_limit import compute_contact_normal_jacobian
 
-__all__ = ["IKModel", "ik_model", "clearance", "ClearanceLimit", "CLEARANCE_RANGE", "FOREARM_CONTACT"]
+__all__ = ["IKModel", "ik_model", "clearance", "ClearanceLimit", "ClearanceTask", "CLEARANCE_RANGE",
+           "FOREARM_CONTACT"]
 
 CLEARANCE_RANGE = 0.1
 """m: distances are measured up to this; farther counts as this far."""
@@ -105,3 +106,37 @@ class ClearanceLimit(mink.Limit):
         if not rows:
             return mink.Constraint()
         return mink.Constraint(G=np.array(rows), h=np.array(bounds))
+
+
+class ClearanceTask(mink.Task):
+    """mink task: each segment-obstacle pair closer than ``least`` (less the forearms' allowance) is an error
+    of its shortfall, weighted ``1 / sigma`` [1/m]: a posture that passes through the furniture is pulled out,
+    more stiffly than the hand is held to its target, so the hand gives way first. Always feasible, unlike a
+    hard limit that a hand on its target and a forearm on the furniture may contradict."""
+
+    def __init__(self, model: mujoco.MjModel, built: IKModel, least: float = 0.005,
+                 sigma: float = 5e-4) -> None:
+        super().__init__(cost=np.zeros(1), gain=1.0, lm_damping=0.0)
+        # measured out to a positive distance: mj_geomDistance needs a positive range to see a penetration
+        self.limit = ClearanceLimit(model, built, least=least, gain=1.0, detect=max(least, 0.0) + 0.01)
+        self.weight = 1.0 / sigma
+        self.model = model
+
+    def _rows(self, configuration: mink.Configuration) -> tuple[np.ndarray, np.ndarray]:
+        con = self.limit.compute_qp_inequalities(configuration, 1.0)
+        if con.inactive:
+            return np.zeros((1, self.model.nv)), np.zeros(1)
+        # G dq <= h is -d(dist)/dq dq <= dist - least: the shortfall min(dist - least, 0) = min(h, 0); pairs
+        # clear of their distance are no error and pull nowhere
+        short = con.h < 0.0
+        return -con.G * short[:, None], np.where(short, con.h, 0.0)
+
+    def compute_error(self, configuration: mink.Configuration) -> np.ndarray:
+        return self._rows(configuration)[1]
+
+    def compute_jacobian(self, configuration: mink.Configuration) -> np.ndarray:
+        return self._rows(configuration)[0]
+
+    def compute_qp_residual(self, configuration: mink.Configuration) -> tuple[np.ndarray, np.ndarray, float]:
+        jac, err = self._rows(configuration)
+        return self.weight * jac, -self.weight * err, 0.0
