@@ -142,6 +142,21 @@ def test_the_import_reader_sees_function_level_and_relative_imports():
     assert found == {"viz": 3, "video": 4, "experiment": 5, "sweep": 6}
 
 
+# -- one place builds a session ----------------------------------------------------------------------------
+def _imported_modules(rel: str) -> set[str]:
+    return {m for _, m in _imports(rel, _modules()[rel])}
+
+
+def test_the_api_and_the_gym_build_their_sessions_with_the_twins_rig():
+    """A session is built in ``twin/rig.py``: the Python API and the Gym environment never import the
+    experiment's runner, and the experiment's subject sessions, its runner and the Gym environment call the
+    rig."""
+    users = ["ergosim/api.py", *sorted(r for r in _modules() if r.startswith("ergosim/gym/"))]
+    assert [r for r in users if "ergosim.experiment.runner" in _imported_modules(r)] == []
+    for rel in ("ergosim/experiment/subject.py", "ergosim/experiment/runner.py", "ergosim/gym/env.py"):
+        assert any(m.startswith("ergosim.twin.rig") for m in _imported_modules(rel)), rel
+
+
 # -- the planner graph's private state --------------------------------------------------------------------
 @functools.cache
 def _graph_private_names() -> frozenset[str]:

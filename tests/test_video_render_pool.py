@@ -12,8 +12,9 @@ from ergosim.cli import headless_gl
 
 headless_gl()
 
-from ergosim.experiment.runner import run_subject, scenario_subject, subject_cell  # noqa: E402
+from ergosim.experiment.runner import run_subject  # noqa: E402
 from ergosim.experiment.scenario import load_scenario  # noqa: E402
+from ergosim.experiment.subject import scenario_subject, subject_cell  # noqa: E402
 from ergosim.video import VideoRequest, write_run_video  # noqa: E402
 from ergosim.video import frames as frames_module  # noqa: E402
 
@@ -50,7 +51,8 @@ def test_forked_workers_write_the_same_mp4_as_one_process(tmp_path):
         from pathlib import Path
         from ergosim.cli import headless_gl
         headless_gl()
-        from ergosim.experiment.runner import run_subject, scenario_subject, subject_cell
+        from ergosim.experiment.runner import run_subject
+        from ergosim.experiment.subject import scenario_subject, subject_cell
         from ergosim.experiment.scenario import load_scenario
         from ergosim.video import frames
         from ergosim.video.benchmark import compare_workers

@@ -20,7 +20,7 @@ _EXPORTS = {
     "Allocator": "allocator", "Decision": "allocator",
     "Mode": "modes", "RiskIndexEntry": "modes", "IndexContext": "modes", "register_mode": "modes",
     "register_risk_index": "modes", "get_mode": "modes", "mode_names": "modes", "risk_index_names": "modes",
-    "ScenarioConfig": "protocol",
+    "SessionConfig": "protocol", "RigSpec": "rig", "Rig": "rig",
     "SubjectRun": "records", "Allocation": "records", "Failure": "records", "RepetitionOutcome": "records",
     "TickLog": "records", "TICK_COLUMNS": "records",
     "WorkerTrack": "worker_track", "RobotTrack": "robot_track", "SceneCalibration": "calibration",

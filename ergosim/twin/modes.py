@@ -33,8 +33,8 @@ from ergosim.ergonomics.cost import CostParams
 from ergosim.ergonomics.risk_index import REBA_G_MAX, KWearIndex, RiskIndex, StaticRebaIndex, StaticRulaIndex
 from ergosim.registry import Registry
 
-if TYPE_CHECKING:  # the protocol checks its modes against this module's registry
-    from ergosim.twin.protocol import ScenarioConfig
+if TYPE_CHECKING:
+    from ergosim.twin.protocol import SessionConfig
 
 __all__ = ["Mode", "RiskIndexEntry", "IndexContext", "MODES", "RISK_INDICES", "register_mode",
            "register_risk_index", "get_mode", "mode_or_default", "mode_names", "risk_index_names",
@@ -43,11 +43,11 @@ __all__ = ["Mode", "RiskIndexEntry", "IndexContext", "MODES", "RISK_INDICES", "r
 
 @dataclasses.dataclass(frozen=True)
 class IndexContext:
-    """What a risk-index factory may use: the scenario protocol, the subject's online KWear index on the
+    """What a risk-index factory may use: the session's protocol, the subject's online KWear index on the
     index's feature (fed by the plant every ergonomics tick; on RULA's part scores for an index on raw
     angles) and its calibration on that feature (α, G(a_k), η)."""
 
-    protocol: ScenarioConfig
+    protocol: SessionConfig
     kwear: KWearIndex
     calibration: Calibration
 

@@ -19,7 +19,7 @@ from ergosim.twin.allocator import Allocator, Decision, DecisionPoint
 from ergosim.twin.in_hand import CarryHook, InHandTurn, relative_pose
 from ergosim.twin.loop import Plant
 from ergosim.twin.modes import get_mode
-from ergosim.twin.protocol import ScenarioConfig
+from ergosim.twin.protocol import SessionConfig
 from ergosim.twin.records import Allocation, Failure, RepetitionOutcome, SubjectRun
 from ergosim.twin.ssm_monitor import SafetyMonitor
 from ergosim.worker.motion import Worker
@@ -54,7 +54,7 @@ class Session:
 
     execution = "sequential"
 
-    def __init__(self, *, cfg: ScenarioConfig, mode: str, subject_index: int, worker: Worker, plant: Plant,
+    def __init__(self, *, cfg: SessionConfig, mode: str, subject_index: int, worker: Worker, plant: Plant,
                  robot, allocator: Allocator, rng: np.random.Generator, negotiator=None,
                  monitor: SafetyMonitor | None = None) -> None:
         self.cfg = cfg
