@@ -19,12 +19,13 @@ import statistics
 import time
 import types
 
+import _root  # noqa: F401 - the repository's root on sys.path: benchmarks/ is not installed
 import numpy as np
 from scipy.spatial.transform import Rotation
 
+from benchmarks.revision import modules_at
 from ergosim.atomic import write_json
 from ergosim.human import human_spec
-from ergosim.revision import modules_at
 from ergosim.worker import StandingArea, rest_angles
 from ergosim.worker import ik as current_ik
 from ergosim.worker.ik_prior import default_prior

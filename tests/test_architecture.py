@@ -21,7 +21,7 @@ PACKAGE = ROOT / "ergosim"
 LAYERS: tuple[tuple[str, ...], ...] = (
     # 0 foundation: errors, file writing, registries, parsing helpers, logging
     ("__init__", "errors", "atomic", "registry", "plugins", "logs", "overrides", "posture", "progress",
-     "exports", "quat", "machine", "held_signals", "g9_csv", "revision", "blas_kernel"),
+     "exports", "quat", "machine", "held_signals", "g9_csv", "blas_kernel"),
     # 1 the models: body, risk, robot, worker motion, task planning, workcells
     ("human", "ergonomics", "robot", "worker", "planner", "scenes"),
     # 2 the simulation: loop, sessions, allocators, tracks
@@ -155,6 +155,26 @@ def test_the_api_and_the_gym_build_their_sessions_with_the_twins_rig():
     assert [r for r in users if "ergosim.experiment.runner" in _imported_modules(r)] == []
     for rel in ("ergosim/experiment/subject.py", "ergosim/experiment/runner.py", "ergosim/gym/env.py"):
         assert any(m.startswith("ergosim.twin.rig") for m in _imported_modules(rel)), rel
+
+
+# -- the package is what a user imports ------------------------------------------------------------------
+def _third_party_imports(tree: ast.Module) -> set[str]:
+    out = {a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names}
+    out |= {n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom) and n.module and not n.level}
+    return {m.split(".")[0] for m in out}
+
+
+def test_no_benchmark_or_study_module_lives_in_the_package():
+    """Benchmarks and studies live in ``benchmarks/`` beside the package (mink keeps its benchmarks out of
+    ``mink/``): no module of ``ergosim/`` is named for one, none imports ``benchmarks``, and the planner
+    draws nothing."""
+    words = ("benchmark", "revision", "study")
+    named = [rel for rel in _modules() if any(w in Path(rel).stem for w in words)]
+    assert named == []
+    assert [rel for rel, tree in _modules().items() if "benchmarks" in _third_party_imports(tree)] == []
+    planner = {rel: tree for rel, tree in _modules().items() if rel.startswith("ergosim/planner/")}
+    assert planner and [rel for rel, t in planner.items() if "matplotlib" in _third_party_imports(t)] == []
+    assert (ROOT / "benchmarks" / "planner.py").is_file()  # where they went
 
 
 # -- the planner graph's private state --------------------------------------------------------------------

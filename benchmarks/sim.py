@@ -106,7 +106,7 @@ def bench_video(scenario: str = "multi-subject", seed: int = 0, repeats: int = 3
     ``speed`` (30 fps), ``repeats`` times (medians). Returns ms per frame for each stage (scene render,
     overlay, encoder), the wall time per second of simulated time, and the same repetition's simulation
     wall time with and without body poses kept (what ``--video`` adds to the run itself). Each film is made
-    with the default worker processes and, side by side, in one process (:mod:`ergosim.video.benchmark`):
+    with the default worker processes and, side by side, in one process (:mod:`benchmarks.video`):
     wall and CPU time per frame of both, the speed-up, and whether the MP4 files are byte-identical."""
 
     sc = load_scenario(scenario).with_overrides({"repetitions": "1", "modes": "hrc"})
@@ -127,7 +127,7 @@ def bench_video(scenario: str = "multi-subject", seed: int = 0, repeats: int = 3
             sims[key].append(time.perf_counter() - t0)
             if key == "on":
                 run = r
-    from ergosim.video.benchmark import compare_workers  # noqa: PLC0415
+    from benchmarks.video import compare_workers  # noqa: PLC0415
     from ergosim.video.render_pool import default_workers  # noqa: PLC0415
 
     workers = default_workers()
