@@ -263,6 +263,23 @@ def test_the_circle_finder_finds_them():
                                                          "ergosim.twin.lookahead_allocator"}
 
 
+# -- a posture feature is a registered thing -----------------------------------------------------------
+FEATURE_USERS = ("ergosim/twin/features.py", "ergosim/twin/loop.py", "ergosim/twin/calibration.py",
+                 "ergosim/twin/worker_track.py", "ergosim/twin/rig.py")
+
+
+def test_the_twin_switches_on_no_posture_feature_by_name():
+    """The twin scores, logs and calibrates every feature through its registered hook: the modules that do
+    it name no feature but the paper's base, ``rula`` (so a new feature touches none of them)."""
+    from ergosim.ergonomics.features import FEATURES  # noqa: PLC0415
+
+    others = set(FEATURES) - {"rula"}
+    found = {rel: sorted({n.value for n in ast.walk(_modules()[rel])
+                          if isinstance(n, ast.Constant) and n.value in others}) for rel in FEATURE_USERS}
+    assert {rel: names for rel, names in found.items() if names} == {}
+    assert {"reba", "angles"} <= others
+
+
 # -- the planner graph's private state --------------------------------------------------------------------
 @functools.cache
 def _graph_private_names() -> frozenset[str]:

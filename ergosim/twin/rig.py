@@ -31,7 +31,7 @@ from ergosim.twin import robot_refusals as refusals
 from ergosim.twin.allocator import Allocator
 from ergosim.twin.calibration import SceneCalibration
 from ergosim.twin.durations import human_durations
-from ergosim.twin.features import FeatureScorer, cell_hold
+from ergosim.twin.features import FeatureScorer
 from ergosim.twin.loop import Plant
 from ergosim.twin.modes import IndexContext, get_mode, get_risk_index
 from ergosim.twin.protocol import SessionConfig
@@ -99,13 +99,18 @@ def _subject_in(cell: Workcell, subject: Subject) -> Subject:
     return subject if subject.handedness == hand else dataclasses.replace(subject, handedness=hand)
 
 
+def _index_feature(mode_name: str) -> str:
+    """The posture feature the mode's risk index reads (``rula`` for a mode without one)."""
+    mode = get_mode(mode_name)
+    return get_risk_index(mode.risk_index).features if mode.risk_index is not None else "rula"
+
+
 def feature_of(mode_name: str) -> str:
     """The posture feature the mode's online KWear (and its calibration) reads: its index's feature when
-    that is a part score (``rula``, ``reba``); ``rula`` otherwise (an index on raw joint angles runs beside
-    the paper's KWear, which stays what ticks.csv logs)."""
-    mode = get_mode(mode_name)
-    f = get_risk_index(mode.risk_index).features if mode.risk_index is not None else "rula"
-    return f if feature_spec(f).whole is not None else "rula"
+    that extends the paper's five part scores (``rula``, ``reba``); ``rula`` otherwise (an index on another
+    feature, e.g. raw joint angles, runs beside the paper's KWear, which stays what ticks.csv logs)."""
+    f = _index_feature(mode_name)
+    return f if feature_spec(f).extends_kwear else "rula"
 
 
 def build_rig(spec: RigSpec, subject: Subject, rng: np.random.Generator, record_bodies: bool = False,
@@ -117,10 +122,8 @@ def build_rig(spec: RigSpec, subject: Subject, rng: np.random.Generator, record_
     sensing = cfg.sensing
     cell = spec.cell(subject)
     subject = _subject_in(cell, subject)
-    extra = [f for f in spec.features if f != "rula"]
     track = WorkerTrack.for_subject(subject, rng, rate=sensing.mocap_rate, dropout_rate=sensing.dropout_rate,
-                                    noise=sensing.noise_scale,
-                                    scorer=FeatureScorer(extra, cell_hold(cell)) if extra else None)
+                                    noise=sensing.noise_scale, scorer=FeatureScorer.of(spec.features, cell))
     kwear = KWearIndex(subject.kwear_params(), alphas or {},
                        online_weight=cfg.calibration.online_alpha_weight,
                        features=feature, joints=feature_spec(feature).joints)
@@ -165,13 +168,15 @@ def _on_feature(calibration, feature: str) -> Calibration | None:
 
 def make_allocator(cfg: SessionConfig, mode_name: str, rig: Rig, calibration) -> Allocator:
     """The mode's risk index and cost rule (none for modes without one) on the rig's task graph.
-    ``calibration``: the subject's, per posture feature (a dict), or the paper's (RULA) alone."""
+    ``calibration``: the subject's, per posture feature (a dict), or the paper's (RULA) alone; the index is
+    given the calibration on its own feature when there is one, else that of its online KWear."""
     mode = get_mode(mode_name)
     index = cost = None
     if mode.risk_index is not None:
         entry = get_risk_index(mode.risk_index)
-        index, cost = entry.build(IndexContext(cfg, rig.plant.kwear, _on_feature(calibration,
-                                                                                 feature_of(mode_name))))
+        own = calibration.get(entry.features) if isinstance(calibration, Mapping) else None
+        index, cost = entry.build(IndexContext(cfg, rig.plant.kwear,
+                                               own or _on_feature(calibration, feature_of(mode_name))))
         if index is not rig.plant.kwear:
             rig.plant.indices.append(index)  # a stateful index of its own is fed the plant's ticks too
     build = mode.allocator or Allocator
