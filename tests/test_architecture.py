@@ -280,6 +280,16 @@ def test_the_twin_switches_on_no_posture_feature_by_name():
     assert {"reba", "angles"} <= others
 
 
+# -- composition, not overriding -----------------------------------------------------------------------
+def test_no_class_extends_the_session():
+    """Parallel execution is a strategy the session calls (``twin/team_session.py``,
+    ``ParallelExecution``), not a subclass of ``Session`` overriding its private methods."""
+    subclasses = [f"{rel}:{node.name}" for rel, tree in _modules().items() for node in ast.walk(tree)
+                  if isinstance(node, ast.ClassDef)
+                  and any(ast.unparse(b).split(".")[-1] == "Session" for b in node.bases)]
+    assert subclasses == []
+
+
 # -- the planner graph's private state --------------------------------------------------------------------
 @functools.cache
 def _graph_private_names() -> frozenset[str]:

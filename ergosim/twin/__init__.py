@@ -16,7 +16,8 @@ from __future__ import annotations
 from ergosim.exports import lazy_exports
 
 _EXPORTS = {
-    "Plant": "loop", "Session": "session", "Outcome": "session", "TeamSession": "team_session",
+    "Plant": "loop", "Session": "session", "Outcome": "session", "ParallelExecution": "team_session",
+    "SequentialExecution": "sequential",
     "Allocator": "allocator", "Decision": "allocator",
     "Mode": "modes", "RiskIndexEntry": "modes", "IndexContext": "modes", "register_mode": "modes",
     "register_risk_index": "modes", "get_mode": "modes", "mode_names": "modes", "risk_index_names": "modes",
