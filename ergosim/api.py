@@ -26,7 +26,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from ergosim.experiment.runner import SubjectResult, subject_session
+from ergosim.experiment.protocol import ScenarioConfig
 from ergosim.experiment.scenario import (
     Scenario,
     load_scenario,
@@ -36,6 +36,7 @@ from ergosim.experiment.scenario import (
 )
 from ergosim.experiment.scenario_check import precheck
 from ergosim.experiment.scenario_run import run_scenario
+from ergosim.experiment.subject import SubjectResult, subject_session
 from ergosim.scenes import Workcell, build_cell, load_cell, register_scene, scene_names
 from ergosim.scenes.action_kinds import ACTION_KINDS, ActionKind, register_action_kind
 from ergosim.twin.modes import (
@@ -48,7 +49,6 @@ from ergosim.twin.modes import (
     register_risk_index,
     risk_index_names,
 )
-from ergosim.twin.protocol import ScenarioConfig
 from ergosim.twin.records import Allocation, Failure, RepetitionOutcome, SubjectRun
 from ergosim.twin.session import Outcome, Session
 
@@ -181,7 +181,7 @@ def session(scenario: Scenario | str | os.PathLike[str], mode: str, *, subject: 
     """One subject's :class:`~ergosim.twin.session.Session` in ``mode``, to step by hand: ``run(n)``
     repetitions, or ``perform(action, agent)`` (an :class:`~ergosim.twin.session.Outcome`) one action at a
     time; ``session.cell`` is its :class:`~ergosim.scenes.Workcell`. See
-    :func:`~ergosim.experiment.runner.subject_session`."""
+    :func:`~ergosim.experiment.subject.subject_session` (built by :mod:`ergosim.twin.rig`)."""
     if not isinstance(scenario, Scenario):
         scenario = load(scenario)
     return subject_session(scenario, subject, seed, mode, calibrate=calibrate)

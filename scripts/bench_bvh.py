@@ -7,8 +7,8 @@ Writes a synthetic recording (seeded) to a temporary directory, replays it ``--r
 and prints the medians [s]: the whole command, and parse, mapping, RULA + KWear, ticks.csv and
 summary.json on their own, as wall and CPU time (the CPU time is the wall time of an idle machine). With
 ``--baseline REV`` the same recording is then replayed by this checkout and by git revision REV side by
-side (two processes asked in turn, ergosim.commands.replay_baseline), and their outputs are compared byte
-for byte. The logic lives in ergosim.commands.replay_benchmark.
+side (two processes asked in turn, benchmarks.replay_baseline), and their outputs are compared byte
+for byte. The logic lives in benchmarks.replay.
 
 Target (issue 28): 1 h of 60 Hz BVH in <= 2 s end to end.
 """
@@ -21,9 +21,11 @@ import os
 import tempfile
 from pathlib import Path
 
+import _root  # noqa: F401 - the repository's root on sys.path: benchmarks/ is not installed
+
+from benchmarks.replay import bench_bvh
+from benchmarks.replay_baseline import side_by_side
 from ergosim.atomic import write_json
-from ergosim.commands.replay_baseline import side_by_side
-from ergosim.commands.replay_benchmark import bench_bvh
 
 TARGET_S = 2.0
 

@@ -5,8 +5,8 @@
 
 First the team decisions (one decision for a whole idle team, beside a replan on the same graph), then the
 replan table as rows complete, then the targets; writes a PNG plot and optionally the rows as JSON. The
-logic lives in ergosim.planner.benchmark and ergosim.planner.benchmark_team. ``--lookahead`` times only the
-kwear-lookahead decisions (ergosim.planner.benchmark_lookahead); ``--baseline REV`` times git revision REV's
+logic lives in benchmarks.planner and benchmarks.planner_team. ``--lookahead`` times only the
+kwear-lookahead decisions (benchmarks.planner_lookahead); ``--baseline REV`` times git revision REV's
 look-ahead beside them, decision by decision, and says whether every plan is the same.
 """
 
@@ -16,9 +16,9 @@ import argparse
 import os
 import sys
 
-from ergosim.atomic import write_json
-from ergosim.errors import ErgosimError
-from ergosim.planner.benchmark import (
+import _root  # noqa: F401 - the repository's root on sys.path: benchmarks/ is not installed
+
+from benchmarks.planner import (
     DEFAULT_CAP_S,
     check_targets,
     format_row,
@@ -26,21 +26,23 @@ from ergosim.planner.benchmark import (
     rows_json,
     run_benchmark,
 )
-from ergosim.planner.benchmark_lookahead import (
+from benchmarks.planner_lookahead import (
     beam_quality,
     check_lookahead_target,
     format_lookahead_rows,
     lookahead_rows_json,
     run_lookahead_benchmark,
 )
-from ergosim.planner.benchmark_plot import plot_benchmark
-from ergosim.planner.benchmark_team import (
+from benchmarks.planner_plot import plot_benchmark
+from benchmarks.planner_revision import planner_at
+from benchmarks.planner_team import (
     check_team_target,
     format_team_rows,
     run_team_benchmark,
     team_rows_json,
 )
-from ergosim.planner.planner_revision import planner_at
+from ergosim.atomic import write_json
+from ergosim.errors import ErgosimError
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -16,12 +16,14 @@ from __future__ import annotations
 
 import argparse
 
+import _root  # noqa: F401 - the repository's root on sys.path: benchmarks/ is not installed
+
 from ergosim.atomic import write_json
 from ergosim.cli import headless_gl
 
 headless_gl()  # offscreen rendering for --video, before MuJoCo is imported
 
-from ergosim.experiment.benchmark import bench_full, bench_sim, bench_video  # noqa: E402
+from benchmarks.sim import bench_full, bench_sim, bench_video  # noqa: E402
 
 
 def main() -> None:

@@ -12,8 +12,10 @@ from __future__ import annotations
 import argparse
 import json
 
+import _root  # noqa: F401 - the repository's root on sys.path: benchmarks/ is not installed
+
+from benchmarks.sweep import bench_sweep
 from ergosim.atomic import write_json
-from ergosim.sweep.benchmark import bench_sweep
 
 
 def main() -> None:

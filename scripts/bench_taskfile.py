@@ -2,7 +2,7 @@
 
     python scripts/bench_taskfile.py [--repeats N] [--json PATH]
 
-The logic lives in ergosim.planner.benchmark_taskfile.
+The logic lives in benchmarks.planner_taskfile.
 """
 
 from __future__ import annotations
@@ -12,8 +12,10 @@ import dataclasses
 import os
 import sys
 
+import _root  # noqa: F401 - the repository's root on sys.path: benchmarks/ is not installed
+
+from benchmarks.planner_taskfile import run_taskfile_benchmark
 from ergosim.atomic import write_json
-from ergosim.planner.benchmark_taskfile import run_taskfile_benchmark
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -8,7 +8,7 @@ multi-subject: 12 subjects x 10 repetitions; gearbox: 6 subjects x 5 repetitions
 subject), then prints per scenario and metric the two means, the paired difference with its 95 % interval
 and the Wilcoxon signed-rank p over the pairs (the cells.parquet of each sweep), and draws the figure of
 docs/allocation_modes.md. A finished sweep is not run again (the sweep resumes). ``--quick``: 3 subjects
-(seeds) and 3 repetitions, for a smoke run. The logic lives in ergosim.sweep.mode_study.
+(seeds) and 3 repetitions, for a smoke run. The logic lives in benchmarks.mode_study.
 """
 
 from __future__ import annotations
@@ -18,9 +18,11 @@ import sys
 import tomllib
 from pathlib import Path
 
+import _root  # noqa: F401 - the repository's root on sys.path: benchmarks/ is not installed
+
+from benchmarks.mode_study import format_mode_table, mode_rows, plot_mode_study
 from ergosim.atomic import write_json
 from ergosim.sweep import parse_sweep, run_sweep
-from ergosim.sweep.mode_study import format_mode_table, mode_rows, plot_mode_study
 
 SWEEPS = Path(__file__).resolve().parents[1] / "examples" / "sweeps" / "allocation_modes"
 SCENARIOS = ("kwear-validation", "multi-subject", "gearbox")

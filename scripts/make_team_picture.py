@@ -19,8 +19,9 @@ headless_gl()  # before MuJoCo is imported
 
 from PIL import Image  # noqa: E402
 
-from ergosim.experiment.runner import run_subject, scenario_subject, subject_cell  # noqa: E402
+from ergosim.experiment.runner import run_subject  # noqa: E402
 from ergosim.experiment.scenario import load_scenario  # noqa: E402
+from ergosim.experiment.subject import scenario_subject, subject_cell  # noqa: E402
 from ergosim.video.still import first_overlap, render_still  # noqa: E402
 
 DEFAULT_OUT = Path(__file__).resolve().parents[1] / "docs" / "img" / "team_gearbox.png"

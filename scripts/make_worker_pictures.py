@@ -21,8 +21,9 @@ headless_gl()  # before MuJoCo is imported
 import numpy as np  # noqa: E402
 from PIL import Image  # noqa: E402
 
-from ergosim.experiment.runner import run_subject, scenario_subject, subject_cell  # noqa: E402
+from ergosim.experiment.runner import run_subject  # noqa: E402
 from ergosim.experiment.scenario import load_scenario  # noqa: E402
+from ergosim.experiment.subject import scenario_subject, subject_cell  # noqa: E402
 from ergosim.twin.calibration import put_part  # noqa: E402
 from ergosim.video.still import render_still  # noqa: E402
 from ergosim.video.worker_stills import render_action_stills  # noqa: E402

@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from ergosim.commands.replay_baseline import OUTPUTS, side_by_side
-from ergosim.commands.replay_benchmark import STAGES, bench_bvh, synthetic_angles, write_synthetic_bvh
+from benchmarks.replay import STAGES, bench_bvh, synthetic_angles, write_synthetic_bvh
+from benchmarks.replay_baseline import OUTPUTS, side_by_side
 from ergosim.human.joints import joint_spec
 from ergosim.posture import HUMAN_JOINTS
 from ergosim.worker.bvh import load_bvh

@@ -12,11 +12,11 @@ import pytest
 
 from ergosim import api
 from ergosim.experiment import scenario as scenariofile
+from ergosim.experiment.protocol import PROTOCOL_KEYS
 from ergosim.human.anthropometry import SEGMENT_SCALES
 from ergosim.scenes import cellfile
 from ergosim.scenes.action_kinds import ACTION_KINDS
 from ergosim.scenes.cellspec import SHAPES
-from ergosim.twin.protocol import PROTOCOL_KEYS
 
 ROOT = Path(__file__).resolve().parents[1]
 BUNDLED_MODES = ("hrc", "rula", "h-only", "r-only")

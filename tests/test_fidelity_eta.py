@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import pytest
 
-from ergosim.experiment.runner import calibrate_subject
 from ergosim.experiment.scenario import load_scenario
+from ergosim.experiment.subject import calibrate_subject
 from ergosim.fidelity.calibration_eta import PAPER_ETA, EtaRow, allowed_band, eta_scan
 
 

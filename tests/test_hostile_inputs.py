@@ -22,13 +22,13 @@ from conftest import KV_SHORT
 
 from ergosim.cli import main
 from ergosim.errors import ConfigError, InfeasiblePlanError, TaskFileError
+from ergosim.experiment.protocol import ScenarioConfig, run_memory
 from ergosim.experiment.run_folder import RunFolder
 from ergosim.experiment.scenario import load_scenario
 from ergosim.machine import physical_memory
 from ergosim.planner import Agent, AndOrGraph, Operation, generate_task, limits, load_task
 from ergosim.planner.taskfile import parse_task
 from ergosim.scenes import build_cell
-from ergosim.twin.protocol import ScenarioConfig, run_memory
 from ergosim.viz import recorder, sinks
 from ergosim.worker.bvh_parse import parse_bvh_text
 
@@ -150,12 +150,12 @@ def test_failed_robot_attempts_do_not_count_as_robot_actions(tmp_path, monkeypat
     """The same cell run from Python, past the CLI's pre-check and with the robot's contract not asked (its
     refusals would take every action from it before the physics): r-only sends the robot every action it
     may do, each attempt fails as unreachable in the physics, and the robot share stays 0."""
-    import ergosim.experiment.runner as runner  # noqa: PLC0415
+    import ergosim.twin.robot_refusals as refusals  # noqa: PLC0415
     from ergosim.experiment.scenario import load_scenario  # noqa: PLC0415
     from ergosim.experiment.scenario_run import run_scenario  # noqa: PLC0415
     from ergosim.experiment.summary_text import summary_text  # noqa: PLC0415
 
-    monkeypatch.setattr(runner, "robot_refusals", lambda task, cell: {})
+    monkeypatch.setattr(refusals, "robot_refusals", lambda task, cell: {})
     scenario = load_scenario("multi-subject", {"subjects": "1", "repetitions": "1", "modes": "r-only",
                                                "scene.robot_base": "0.94,-0.5,0.9",
                                                "scene.robots.robot.support": "bench"})

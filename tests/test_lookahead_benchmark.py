@@ -6,8 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from ergosim.errors import ConfigError
-from ergosim.planner.benchmark_lookahead import (
+from benchmarks.planner_lookahead import (
     CURRENT,
     LOOKAHEAD_CASES,
     _graph,
@@ -19,7 +18,8 @@ from ergosim.planner.benchmark_lookahead import (
     run_lookahead_benchmark,
     time_decisions,
 )
-from ergosim.planner.planner_revision import planner_at
+from benchmarks.planner_revision import planner_at
+from ergosim.errors import ConfigError
 
 
 @pytest.mark.slow

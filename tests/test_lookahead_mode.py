@@ -12,7 +12,8 @@ import pytest
 from own_product import CELL, SCENARIO, TASK, write_product
 
 from ergosim import api
-from ergosim.experiment.runner import run_subject, subject_session
+from ergosim.experiment.runner import run_subject
+from ergosim.experiment.subject import subject_session
 from ergosim.twin.lookahead_allocator import LookaheadAllocator, lookahead_settings
 from ergosim.twin.lookahead_team_allocator import team_state
 from ergosim.twin.protocol import LookaheadConfig

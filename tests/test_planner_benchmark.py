@@ -6,9 +6,7 @@ import json
 
 import numpy as np
 
-from ergosim.atomic import write_json
-from ergosim.planner import generate_task
-from ergosim.planner.benchmark import (
+from benchmarks.planner import (
     BenchRow,
     bench_cases,
     check_targets,
@@ -17,7 +15,9 @@ from ergosim.planner.benchmark import (
     run_benchmark,
     time_replans,
 )
-from ergosim.planner.benchmark_plot import plot_benchmark
+from benchmarks.planner_plot import plot_benchmark
+from ergosim.atomic import write_json
+from ergosim.planner import generate_task
 
 
 def test_cases_cover_the_issue_rows():

@@ -15,7 +15,7 @@ from ergosim.ergonomics.cost import CostParams
 from ergosim.ergonomics.kwear import kwear_step
 from ergosim.ergonomics.reba import REBA_JOINTS, REBA_PARTS
 from ergosim.ergonomics.risk_index import RiskIndex
-from ergosim.experiment.runner import scenario_subject
+from ergosim.experiment.subject import scenario_subject
 from ergosim.posture import ANGLE_NAMES
 from ergosim.twin.features import REBA_COLUMNS
 from ergosim.twin.modes import Mode, RiskIndexEntry, register_mode, register_risk_index

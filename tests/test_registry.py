@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import subprocess
+import sys
+
 import pytest
 
 from ergosim.errors import ConfigError
@@ -35,3 +38,17 @@ def test_every_extension_point_is_a_registry():
     assert RISK_INDICES.names()[:2] == ("kwear", "rula-static")
     with pytest.raises(ConfigError, match="unknown risk index .x.; valid risk indices: kwear, rula-static"):
         RISK_INDICES.get("x")
+
+
+def test_the_bundled_modes_are_a_catalogue_registered_on_first_use():
+    """The mode registry's module imports no allocator: the bundled modes are ``ergosim.twin.catalogue``'s,
+    imported when a registry is first read, and they come before a mode registered earlier than that."""
+    code = ("import sys\n"
+            "from ergosim.twin.modes import Mode, mode_names, register_mode, risk_index_names\n"
+            "assert 'ergosim.twin.catalogue' not in sys.modules\n"
+            "assert 'ergosim.twin.lookahead_allocator' not in sys.modules\n"
+            "register_mode(Mode('mine', 'a mode of my own'))\n"
+            "print(','.join(mode_names()), ','.join(risk_index_names()))\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.split() == ["hrc,rula,h-only,r-only,hrc-reba,reba,kwear-lookahead,mine",
+                           "kwear,rula-static,kwear-reba,reba-static"]

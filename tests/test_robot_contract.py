@@ -11,13 +11,13 @@ import pytest
 
 from ergosim.cli import main
 from ergosim.errors import ConfigError
-from ergosim.experiment.robot_refusals import handover_clearance, handover_poses, robot_refusals
 from ergosim.experiment.scenario import load_scenario
 from ergosim.robot import get_robot, robot_names
 from ergosim.robot.capability import refusal
 from ergosim.robot.panda import PANDA
 from ergosim.robot.ur5 import UR5
 from ergosim.scenes import build_cell
+from ergosim.twin.robot_refusals import handover_clearance, handover_poses, robot_refusals
 
 ROOT = Path(__file__).resolve().parents[1]
 

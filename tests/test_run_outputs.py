@@ -202,10 +202,11 @@ def test_noise_scale_multiplies_the_sensor_noise():
 
 
 def test_noise_scale_reaches_the_twin():
-    from ergosim.experiment.runner import build_rig  # noqa: PLC0415
+    from ergosim.experiment.subject import rig_spec  # noqa: PLC0415
+    from ergosim.twin.rig import build_rig  # noqa: PLC0415
 
     scenario = load_scenario("kwear-validation", {"noise_scale": "0.5"})
-    rig = build_rig(scenario, make_subjects(1, 0)[0], np.random.default_rng(0))
+    rig = build_rig(rig_spec(scenario), make_subjects(1, 0)[0], np.random.default_rng(0))
     assert rig.plant.track.stream.noise_scale == 0.5
 
 

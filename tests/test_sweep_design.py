@@ -26,7 +26,7 @@ from ergosim.sweep.units import plan_units, unit_id
 
 ROOT = Path(__file__).resolve().parents[1]
 MODULES = ["design", "units", "executors", "folder", "tables", "stats", "plots", "runner", "metrics",
-           "compare", "fingerprint", "benchmark"]
+           "compare", "fingerprint"]
 
 
 def _write(tmp_path, text: str, name: str = "s.toml"):

@@ -1,11 +1,11 @@
-"""The two-mode study's table and figure from sweep folders (ergosim.sweep.mode_study)."""
+"""The two-mode study's table and figure from sweep folders (benchmarks.mode_study)."""
 
 from __future__ import annotations
 
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-from ergosim.sweep.mode_study import PAIRED_PANELS, format_mode_table, mode_rows, plot_mode_study
+from benchmarks.mode_study import PAIRED_PANELS, format_mode_table, mode_rows, plot_mode_study
 
 
 def _folder(path, shift: float):

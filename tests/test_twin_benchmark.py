@@ -1,4 +1,4 @@
-"""What scripts/bench_sim.py measures (ergosim.experiment.benchmark), not how fast: no timed test."""
+"""What scripts/bench_sim.py measures (benchmarks.sim), not how fast: no timed test."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from ergosim.experiment.benchmark import bench_repetition
+from benchmarks.sim import bench_repetition
 
 
 @pytest.mark.slow

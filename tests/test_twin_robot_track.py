@@ -8,9 +8,10 @@ import pytest
 from ergosim.cli import main
 from ergosim.errors import ConfigError
 from ergosim.experiment.robot_timing import ActionTiming, RobotOnlyRun, robot_only_runs, timing_summary
-from ergosim.experiment.runner import build_rig
 from ergosim.experiment.scenario import load_scenario, scenario_config
+from ergosim.experiment.subject import rig_spec
 from ergosim.robot.status import SKILL_PHASES, SkillResult, SkillStatus
+from ergosim.twin.rig import build_rig
 from ergosim.twin.robot_track import RobotTrack
 from ergosim.worker.subjects import make_subjects
 
@@ -28,7 +29,7 @@ def test_both_speeds_are_protocol_fields_with_their_sources():
     assert cfg.robot.ee_speed == 0.05 and cfg.robot.transit_speed == 0.25  # paper §7.2; ISO 10218-1:2011 §5.6
     sc = load_scenario("multi-subject", {"transit_speed": "0.3", "ee_speed": "0.04"})
     assert (sc.protocol.robot.ee_speed, sc.protocol.robot.transit_speed) == (0.04, 0.3)
-    rig = build_rig(sc, make_subjects(1, 0)[0], np.random.default_rng(0))
+    rig = build_rig(rig_spec(sc), make_subjects(1, 0)[0], np.random.default_rng(0))
     limits = rig.robot.params.limits
     assert (limits.speed, limits.transit_speed) == (0.04, 0.3)  # the protocol reaches the skills
     track = RobotTrack(rig.cell)

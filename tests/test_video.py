@@ -24,8 +24,9 @@ from conftest import KV_SHORT
 from ergosim.cli import main
 from ergosim.errors import ConfigError
 from ergosim.experiment import film
-from ergosim.experiment.runner import run_subject, scenario_subject, subject_cell, subject_session
+from ergosim.experiment.runner import run_subject
 from ergosim.experiment.scenario import load_scenario
+from ergosim.experiment.subject import scenario_subject, subject_cell, subject_session
 from ergosim.posture import KWEAR_JOINTS
 from ergosim.scenes import build_cell
 from ergosim.video import (

@@ -12,8 +12,9 @@ from ergosim.cli import headless_gl
 
 headless_gl()
 
-from ergosim.experiment.runner import run_subject, scenario_subject, subject_cell  # noqa: E402
+from ergosim.experiment.runner import run_subject  # noqa: E402
 from ergosim.experiment.scenario import load_scenario  # noqa: E402
+from ergosim.experiment.subject import scenario_subject, subject_cell  # noqa: E402
 from ergosim.video import VideoRequest, write_run_video  # noqa: E402
 from ergosim.video import frames as frames_module  # noqa: E402
 
@@ -45,15 +46,16 @@ def test_worker_processes_write_the_same_mp4_as_one_process(recorded, tmp_path, 
 @pytest.mark.slow
 def test_forked_workers_write_the_same_mp4_as_one_process(tmp_path):
     """In a fresh interpreter that never opened OpenGL the workers are forked; the one-process film is made
-    in a forked child (ergosim.video.benchmark), as scripts/bench_sim.py --video does."""
+    in a forked child (benchmarks.video), as scripts/bench_sim.py --video does."""
     code = textwrap.dedent(f"""
         from pathlib import Path
         from ergosim.cli import headless_gl
         headless_gl()
-        from ergosim.experiment.runner import run_subject, scenario_subject, subject_cell
+        from ergosim.experiment.runner import run_subject
+        from ergosim.experiment.subject import scenario_subject, subject_cell
         from ergosim.experiment.scenario import load_scenario
         from ergosim.video import frames
-        from ergosim.video.benchmark import compare_workers
+        from benchmarks.video import compare_workers
         sc = load_scenario("kwear-validation", {{"repetitions": "1", "modes": "hrc", "eta_max": "2"}})
         run = run_subject(sc, 0, 0, ("hrc",), record_mode="hrc").runs["hrc"]
         cell = subject_cell(sc, scenario_subject(sc, 0, 0))

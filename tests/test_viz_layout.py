@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 from rerun.chunk import RrdReader
 
-from ergosim.experiment.runner import subject_cell
 from ergosim.experiment.scenario import load_scenario, scenario_names
+from ergosim.experiment.subject import subject_cell
 from ergosim.posture import ANGLE_NAMES, KWEAR_JOINTS
 from ergosim.scenes import build_cell
 from ergosim.viz import RecordingReader, default_body_groups, open_recording

@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from ergosim.experiment.protocol import ScenarioConfig
 from ergosim.twin.negotiation import Negotiator
-from ergosim.twin.protocol import ScenarioConfig
 from ergosim.twin.team_setup import refusal_model
 from ergosim.worker.refusal import RefusalModel
 

@@ -28,10 +28,10 @@ def add_parser(sub) -> argparse.ArgumentParser:
 
 
 def run(args) -> int:
+    from ergosim.experiment.protocol import protocol_from_record  # noqa: PLC0415
     from ergosim.experiment.run_merge import merge_runs  # noqa: PLC0415 - keep `ergosim --help` fast
     from ergosim.experiment.scenario_run import EXIT_ABANDONED  # noqa: PLC0415
     from ergosim.experiment.summary_text import summary_text  # noqa: PLC0415
-    from ergosim.twin.protocol import protocol_from_record  # noqa: PLC0415
 
     result = merge_runs([Path(d) for d in args.dirs], Path(args.out))
     if not args.quiet:

@@ -21,7 +21,7 @@ __all__ = ["calibration_summary"]
 
 
 def calibration_summary(results: Sequence) -> dict:
-    """The ``calibration`` object of summary.json from :class:`~ergosim.experiment.runner.SubjectResult` s in
+    """The ``calibration`` object of summary.json from :class:`~ergosim.experiment.subject.SubjectResult` s in
     subject order."""
     actions = list(results[0].alphas) if results else []
     loaded = [{a: most_loaded_joint(r.alphas[a], KWEAR_JOINTS) for a in actions} for r in results]

@@ -18,8 +18,9 @@ from pathlib import Path
 from ergosim import __version__
 from ergosim.atomic import write_json
 from ergosim.errors import ConfigError, RenderError
-from ergosim.experiment.runner import run_subject, scenario_subject, subject_cell
+from ergosim.experiment.runner import run_subject
 from ergosim.experiment.scenario import load_scenario
+from ergosim.experiment.subject import scenario_subject, subject_cell
 from ergosim.video.encode import gif_from_mp4
 from ergosim.video.run_video import VideoRequest, write_run_video
 

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import logging
 
-from ergosim.experiment.runner import SubjectResult, scenario_subject, subject_cell
 from ergosim.experiment.scenario import Scenario
+from ergosim.experiment.subject import SubjectResult, scenario_subject, subject_cell
 from ergosim.video.run_video import VideoRequest, VideoStats, write_run_video
 
 __all__ = ["film_subject"]

@@ -36,7 +36,7 @@ __all__ = ["Output", "UnitTable", "Products", "OUTPUTS", "output", "write_output
 @dataclasses.dataclass(frozen=True)
 class Products:
     """What a run folder's files are written from. ``config``: the protocol as recorded
-    (:meth:`~ergosim.twin.protocol.ScenarioConfig.record`); ``records``: the subject records, in subject
+    (:meth:`~ergosim.experiment.protocol.ScenarioConfig.record`); ``records``: the subject records, in subject
     order; ``summary``: the summary.json document; ``team``: team.json's, or None; ``results``: the
     subjects' full results (per-tick logs, KWear traces), empty in a merge; ``plot_subjects``: the subjects
     the figures show (None: all); ``plots``: False writes no figures (``ergosim run --no-plots``)."""

@@ -15,9 +15,10 @@ import statistics
 
 import numpy as np
 
-from ergosim.experiment.runner import build_rig, make_allocator, scenario_subject
 from ergosim.experiment.scenario import Scenario
+from ergosim.experiment.subject import rig_spec, scenario_subject
 from ergosim.robot.status import SKILL_PHASES, SkillResult
+from ergosim.twin.rig import build_rig, make_allocator, streams
 from ergosim.twin.session import Session
 
 __all__ = ["ActionTiming", "RobotOnlyRun", "robot_only_runs", "timing_summary", "format_summary"]
@@ -82,15 +83,15 @@ class RobotOnlyRun:
 def robot_only_runs(scenario: Scenario, subjects: int, seed: int = 0) -> list[RobotOnlyRun]:
     """One r-only repetition for each of the first ``subjects`` subjects of ``seed``'s population."""
     sc = scenario.with_overrides({"repetitions": "1", "modes": "r-only"})
+    spec = rig_spec(sc)
     out = []
     for index in range(subjects):
         subject = scenario_subject(sc, index, seed)
-        # the streams of run_subject: [calibration, r-only]
-        rng = np.random.default_rng(np.random.SeedSequence([seed, index]).spawn(2)[1])
-        rig = build_rig(sc, subject, rng)
-        allocator = make_allocator(sc, "r-only", rig, None)
+        rng = np.random.default_rng(streams(seed, index, (0,))[1])  # run_subject's stream of mode slot 0
+        rig = build_rig(spec, subject, rng)
+        allocator = make_allocator(spec.config, "r-only", rig, None)
         plant = rig.plant
-        session = Session(cfg=sc.protocol, mode="r-only", subject_index=index, worker=rig.worker,
+        session = Session(cfg=spec.config, mode="r-only", subject_index=index, worker=rig.worker,
                           plant=plant, robot=rig.robots, allocator=allocator, rng=rng)
         run = session.run(1)
         # the repetition may end while the last robot action's arm is still on its way home (the worker

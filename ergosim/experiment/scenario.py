@@ -1,7 +1,7 @@
 """Scenario files: read one, resolve its task and workcell, apply overrides, and register scenarios by name.
 
 A :class:`Scenario` is everything a run needs, resolved and checked before any physics: the protocol
-(:class:`~ergosim.twin.protocol.ScenarioConfig`), the task's TOML text and the workcell document, with
+(:class:`~ergosim.experiment.protocol.ScenarioConfig`), the task's TOML text and the workcell document, with
 the workcell overrides kept apart so each subject's workcell can add its own body to them. It is plain
 data, so it travels to worker processes as it is.
 """
@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from ergosim.errors import ConfigError, TaskFileError
+from ergosim.experiment.protocol import ScenarioConfig
 from ergosim.overrides import apply_overrides
 from ergosim.planner import AndOrGraph, bundled_task_source, bundled_task_text, task_from_dict
 from ergosim.planner.bundled import BUNDLED_TASKS
@@ -25,7 +26,6 @@ from ergosim.planner.task_overrides import apply_task_overrides
 from ergosim.registry import Registry
 from ergosim.scenes import CellSpec, apply_cell_overrides, cell_document, parse_cell
 from ergosim.scenes.cellfile import override_paths, read_toml
-from ergosim.twin.protocol import ScenarioConfig
 
 __all__ = ["Scenario", "SCENARIOS", "register_scenario", "scenario_names", "scenario_path", "scenario_info",
            "load_scenario", "scenario_config", "split_overrides"]

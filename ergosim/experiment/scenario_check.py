@@ -3,7 +3,7 @@
 :func:`check_scenario` needs no kinematics: every action of the task has a physical action in the cell,
 every physical action moves a part of the task, every agent has a body (the worker, or a robot of that
 name), and no robot is allowed an action whose part its gripper cannot take. A robot's contract
-(:mod:`ergosim.experiment.robot_refusals`: the gripper's opening, the payload against the mass carried,
+(:mod:`ergosim.twin.robot_refusals`: the gripper's opening, the payload against the mass carried,
 its reach) takes an action it cannot do from it for the whole run, in words.
 :func:`check_reachability` follows the task's plan with every part where the earlier actions leave it, and
 plans each robot action's whole skill (reach, carry, insertion, way out) there: an action that no allowed
@@ -18,11 +18,11 @@ import numpy as np
 
 from ergosim import quat
 from ergosim.errors import ConfigError
-from ergosim.experiment.robot_refusals import robot_refusals
 from ergosim.planner import AndOrGraph
 from ergosim.robot.capability import OUT_OF_REACH
 from ergosim.robot.robot_model import get_robot
 from ergosim.scenes import CellSpec
+from ergosim.twin.robot_refusals import robot_refusals
 
 __all__ = ["check_scenario", "robot_refusals", "check_reachability", "precheck"]
 

@@ -31,17 +31,18 @@ from ergosim.experiment.interrupt import (
     stop_reason,
 )
 from ergosim.experiment.outputs import Products, output, write_outputs
+from ergosim.experiment.protocol import ScenarioConfig
 from ergosim.experiment.run_folder import RunFolder
-from ergosim.experiment.runner import SubjectResult, run_subject, scenario_subject, subject_cell
+from ergosim.experiment.runner import run_subject
 from ergosim.experiment.scenario import Scenario
 from ergosim.experiment.spawn_guard import check_main_guard
+from ergosim.experiment.subject import SubjectResult, scenario_subject, subject_cell
 from ergosim.experiment.subject_records import SubjectRecord
 from ergosim.experiment.summary import summary_of
 from ergosim.experiment.team_metrics import team_document, team_in_summary
 from ergosim.logs import configured_level
 from ergosim.plugins import extension_modules, import_extensions
 from ergosim.progress import Progress
-from ergosim.twin.protocol import ScenarioConfig
 
 __all__ = ["run_scenario", "ScenarioResult", "EXIT_ABANDONED"]
 

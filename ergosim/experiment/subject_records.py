@@ -105,7 +105,7 @@ class SubjectRecord:
 
     @classmethod
     def of(cls, result) -> SubjectRecord:
-        """The record of a :class:`~ergosim.experiment.runner.SubjectResult`."""
+        """The record of a :class:`~ergosim.experiment.subject.SubjectResult`."""
         return cls(subject=result.subject, name=result.name, eta=dict(result.eta),
                    calibration_errors=dict(result.calibration_errors), alphas=dict(result.alphas),
                    rula_g=dict(result.rula_g), runs={m: RunRecord.of(r) for m, r in result.runs.items()},

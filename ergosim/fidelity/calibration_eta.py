@@ -22,8 +22,8 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from ergosim.experiment.runner import calibrate_subject, scenario_subject
 from ergosim.experiment.scenario import load_scenario
+from ergosim.experiment.subject import calibrate_subject, scenario_subject
 
 __all__ = ["EtaRow", "eta_scan", "allowed_band", "PAPER_ETA", "SCAN_ETA_MAX"]
 

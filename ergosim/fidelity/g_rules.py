@@ -17,8 +17,8 @@ import numpy as np
 
 from ergosim.ergonomics.kwear import alpha_of
 from ergosim.ergonomics.rula_action import G_RULES, grand_scores_by_rule, most_loaded_joint
-from ergosim.experiment.runner import scenario_subject, subject_cell
 from ergosim.experiment.scenario import load_scenario
+from ergosim.experiment.subject import scenario_subject, subject_cell
 from ergosim.fidelity import paper
 from ergosim.posture import KWEAR_JOINTS
 from ergosim.twin.calibration import SceneCalibration

@@ -20,8 +20,8 @@ from collections.abc import Sequence
 import numpy as np
 
 from ergosim.ergonomics.kwear import KWearParams, alpha_of
-from ergosim.experiment.runner import scenario_subject, subject_cell
 from ergosim.experiment.scenario import load_scenario
+from ergosim.experiment.subject import scenario_subject, subject_cell
 from ergosim.twin.calibration import put_part
 from ergosim.worker import Worker, score_frames
 

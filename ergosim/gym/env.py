@@ -38,8 +38,9 @@ from gymnasium import spaces
 
 from ergosim import api
 from ergosim.errors import ConfigError, InfeasiblePlanError
-from ergosim.experiment.runner import calibrate_subject, subject_session
+from ergosim.experiment.subject import rig_spec, scenario_subject
 from ergosim.posture import KWEAR_JOINTS
+from ergosim.twin.rig import calibrated, ready_session
 
 __all__ = ["AllocationEnv", "TAKT_PENALTY"]
 
@@ -91,6 +92,7 @@ class AllocationEnv(gym.Env):
             "takt_time": spaces.Box(0.0, np.finfo(np.float32).max, (1,), np.float32),
             "action_mask": spaces.MultiBinary(len(self.choices)),
         })
+        self._spec = rig_spec(self.scenario)
         self._calibrated: dict[tuple[int, int], tuple] = {}
         self.session = None
         self.result = None
@@ -103,10 +105,11 @@ class AllocationEnv(gym.Env):
         self.subject = int(options.get("subject", self.subject))
         self.seed = int(seed) if seed is not None else int(self.np_random.integers(2**31 - 1))
         key = (self.seed, self.subject)
+        subject = scenario_subject(self.scenario, self.subject, self.seed)
         if key not in self._calibrated:  # deterministic in (seed, subject): calibrate once
-            self._calibrated[key] = calibrate_subject(self.scenario, self.subject, self.seed)
-        self.session = subject_session(self.scenario, self.subject, self.seed, self.mode,
-                                       calibrated=self._calibrated[key])
+            self._calibrated[key] = calibrated(self._spec, subject, self.subject, self.seed)
+        self.session = ready_session(self._spec, subject, self.subject, self.seed, self.mode,
+                                     calibrated_as=self._calibrated[key])
         self.result = None
         self._steps = self.session.run_steps(self.repetitions)
         self._rep_start = {}

@@ -106,7 +106,7 @@ class Allocator:
     sets the human's costs (None for modes without one); ``cost``: Γ, V_th, c_r (eq. 10-11); ``w_time`` and
     ``durations``: the time term, w_time × expected duration per (action, agent) (0: the paper's cost).
     ``refused``: (action, robot) pairs the robot cannot do in this cell (its gripper, payload or reach,
-    :func:`ergosim.experiment.robot_refusals.robot_refusals`): taken from the task for the whole run, as if
+    :func:`ergosim.twin.robot_refusals.robot_refusals`): taken from the task for the whole run, as if
     the task did not allow them.
     """
 

@@ -28,7 +28,7 @@ from ergosim.ergonomics.kwear import KWearParams
 from ergosim.ergonomics.param_store import ParamStore, WorkerParams
 from ergosim.errors import ConfigError
 from ergosim.scenes import build_scene
-from ergosim.twin.features import FeatureScorer, cell_hold
+from ergosim.twin.features import FeatureScorer
 from ergosim.twin.worker_track import WorkerTrack
 from ergosim.worker.subjects import Subject
 
@@ -63,14 +63,13 @@ class SceneCalibration:
         self.passes: list[dict[str, Execution]] = []
         """Per pass, action -> its execution's RULA part scores (the paper's KWear inputs)."""
         self.feature_passes: list[dict[str, dict[str, Execution]]] = []
-        """Per pass, feature -> action -> its execution on that feature, for the track's extra features."""
+        """Per pass, feature -> action -> its execution on that feature (``rula``'s are :attr:`passes`)."""
         self.mtm: dict[str, str] = {}
         """action -> the MTM-1 analysis of its first recorded execution."""
 
     def _record_pass(self) -> None:
         cell, worker = self.cell, self.track.worker
         cell.reset_parts()
-        executions: dict[str, Execution] = {}
         by_feature: dict[str, dict[str, Execution]] = {}
         for action in self.actions:
             geom = cell.actions[action]
@@ -78,12 +77,10 @@ class SceneCalibration:
             self.mtm.setdefault(action, motion.mtm)
             seg = self.track.start_action(motion)
             ticks = np.arange(self.tick_every - 1, seg.n, self.tick_every)
-            executions[action] = Execution(seg.g[ticks], self.dt_tick, seg.grand[ticks])
             for feat, g in seg.g_by.items():
-                if feat != "rula":
-                    whole = seg.whole_by.get(feat)
-                    by_feature.setdefault(feat, {})[action] = Execution(
-                        g[ticks], self.dt_tick, None if whole is None else whole[ticks])
+                whole = seg.whole_by.get(feat)
+                by_feature.setdefault(feat, {})[action] = Execution(
+                    g[ticks], self.dt_tick, None if whole is None else whole[ticks])
             pos, quat = cell.site_pose(geom.target)
             put_part(cell, geom.part, pos, quat)
             if geom.seats:
@@ -91,14 +88,14 @@ class SceneCalibration:
             elif geom.received:
                 cell.receive(geom.part, pos)
         cell.reset_parts()
-        self.passes.append(executions)
+        self.passes.append(by_feature["rula"])
         self.feature_passes.append(by_feature)
 
     def execute(self, action: str, l: int, feature: str = "rula") -> Execution:  # noqa: E741 - the paper's index
         """Execution ``l`` of ``action`` on posture feature ``feature`` (recorded when first asked for)."""
         while len(self.passes) <= l:
             self._record_pass()
-        return self.passes[l][action] if feature == "rula" else self.feature_passes[l][feature][action]
+        return self.feature_passes[l][feature][action]
 
     @classmethod
     def for_subject(cls, scene, subject: Subject, rng: np.random.Generator, *, mocap_rate: float,
@@ -112,10 +109,8 @@ class SceneCalibration:
         if isinstance(scene, str | os.PathLike):
             scene = build_scene(scene, **{**subject.workcell_fields, **dict(scene_overrides or {})})
         cell = scene
-        extra = [f for f in features if f != "rula"]
-        scorer = FeatureScorer(extra, cell_hold(cell)) if extra else None
         track = WorkerTrack.for_subject(subject, rng, rate=mocap_rate, dropout_rate=dropout_rate, noise=noise,
-                                        scorer=scorer)
+                                        scorer=FeatureScorer.of(features, cell))
         tick_every = int(round(mocap_rate / ergonomics_rate))
         return cls(tuple(cell.actions) if actions is None else actions, cell, track, rng, tick_every,
                    tick_every * (1.0 / mocap_rate))

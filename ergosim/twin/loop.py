@@ -163,14 +163,12 @@ class Plant:
         """Paper eq. 3-5 over one ergonomics period: wear while acting, recovery while resting. A dropout
         (NaN frame) is counted by the index and V holds, so NaN never reaches KWear."""
         if seg.acting:
-            g = seg.g if self._feature == "rula" else seg.g_by[self._feature]
-            self.kwear.update(g[k], self.dt_tick)
+            self.kwear.update(seg.g_by[self._feature][k], self.dt_tick)
         else:
             self.kwear.update(self._zero_g, self.dt_tick, resting=True)
         for index in self.indices:
             if seg.acting:
-                g = seg.g if index.features == "rula" else seg.g_by[index.features]
-                index.update(g[k], self.dt_tick)
+                index.update(seg.g_by[index.features][k], self.dt_tick)
             else:
                 index.update(np.zeros(len(index.joints)), self.dt_tick, resting=True)
         row = self._row

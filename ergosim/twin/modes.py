@@ -1,4 +1,4 @@
-"""Allocation modes and risk indices, each registered in one place.
+"""Allocation modes and risk indices: what a mode is, and the one registry of each.
 
 A :class:`Mode` brings everything that differs between modes: the risk index whose prediction prices the
 worker's hyper-arcs (or none), the pruning of hyper-arcs before every decision (paper §2.2) and whether the
@@ -6,18 +6,8 @@ worker waits for the takt. A risk index is registered by name with a factory tha
 rule, for one subject's run. A decision records why as data (:class:`~ergosim.twin.allocator.Basis`); the
 words are :mod:`ergosim.viz.reason`'s.
 
-Bundled modes:
-
-- ``hrc``: KWear-driven allocation (eq. 9-11), the paper's framework;
-- ``rula``: the static RULA baseline of §7.1 (a constant G(a_k) per action against G_th);
-- ``hrc-reba``: the same framework with KWear on REBA's part scores (the legs a sixth joint);
-- ``reba``: a static REBA baseline (the REBA score G(a_k) against ``reba_threshold``);
-- ``h-only``: the worker does everything and waits for the takt (§7.2's H only);
-- ``r-only``: every action a robot may do goes to a robot;
-- ``kwear-lookahead``: the paper's KWear costs chained along the plan, with recovery and the takt; the next
-  (action, agent) starts the cheapest sequence (:mod:`ergosim.twin.lookahead_allocator`).
-
-Add a mode with :func:`register_mode` (a new module that calls it is enough), a risk index with
+The bundled modes and indices are :mod:`ergosim.twin.catalogue`'s, registered when either registry is
+first read. Add a mode with :func:`register_mode` (a new module that calls it is enough), a risk index with
 :func:`register_risk_index`. A mode that decides differently from AO* on the order-free costs brings its own
 allocator factories (``allocator``, ``team_allocator``).
 """
@@ -30,11 +20,11 @@ from typing import TYPE_CHECKING
 
 from ergosim.ergonomics.calibration import Calibration
 from ergosim.ergonomics.cost import CostParams
-from ergosim.ergonomics.risk_index import REBA_G_MAX, KWearIndex, RiskIndex, StaticRebaIndex, StaticRulaIndex
+from ergosim.ergonomics.risk_index import KWearIndex, RiskIndex
 from ergosim.registry import Registry
 
-if TYPE_CHECKING:  # the protocol checks its modes against this module's registry
-    from ergosim.twin.protocol import ScenarioConfig
+if TYPE_CHECKING:
+    from ergosim.twin.protocol import SessionConfig
 
 __all__ = ["Mode", "RiskIndexEntry", "IndexContext", "MODES", "RISK_INDICES", "register_mode",
            "register_risk_index", "get_mode", "mode_or_default", "mode_names", "risk_index_names",
@@ -43,11 +33,11 @@ __all__ = ["Mode", "RiskIndexEntry", "IndexContext", "MODES", "RISK_INDICES", "r
 
 @dataclasses.dataclass(frozen=True)
 class IndexContext:
-    """What a risk-index factory may use: the scenario protocol, the subject's online KWear index on the
+    """What a risk-index factory may use: the session's protocol, the subject's online KWear index on the
     index's feature (fed by the plant every ergonomics tick; on RULA's part scores for an index on raw
     angles) and its calibration on that feature (α, G(a_k), η)."""
 
-    protocol: ScenarioConfig
+    protocol: SessionConfig
     kwear: KWearIndex
     calibration: Calibration
 
@@ -101,9 +91,10 @@ class Mode:
         return set() if self.prune is None else self.prune(allowed, human, robots)
 
 
-MODES: Registry[Mode] = Registry("mode", where="mode")
+MODES: Registry[Mode] = Registry("mode", where="mode", builtins="ergosim.twin.catalogue")
 """The allocation modes by name (``--mode``, a scenario's ``modes``)."""
-RISK_INDICES: Registry[RiskIndexEntry] = Registry("risk index", plural="risk indices", where="mode")
+RISK_INDICES: Registry[RiskIndexEntry] = Registry("risk index", plural="risk indices", where="mode",
+                                                  builtins="ergosim.twin.catalogue")
 """The risk indices by name (a mode's ``risk_index``)."""
 
 
@@ -137,62 +128,3 @@ def get_mode(name: str) -> Mode:
 
 def get_risk_index(name: str) -> RiskIndexEntry:
     return RISK_INDICES.get(name)
-
-
-# -- the bundled risk indices ------------------------------------------------------------------------------
-def _kwear(ctx: IndexContext) -> tuple[RiskIndex, CostParams]:
-    return ctx.kwear, ctx.protocol.cost.params(ctx.kwear.params.v_max)
-
-
-def _rula(ctx: IndexContext) -> tuple[RiskIndex, CostParams]:
-    cost = ctx.protocol.cost
-    return StaticRulaIndex(ctx.calibration.rula_scores, g_max=cost.rula_g_max), cost.rula_params()
-
-
-def _reba(ctx: IndexContext) -> tuple[RiskIndex, CostParams]:
-    return StaticRebaIndex(ctx.calibration.grand_scores), ctx.protocol.cost.reba_params(REBA_G_MAX)
-
-
-register_risk_index(RiskIndexEntry("kwear", _kwear))
-register_risk_index(RiskIndexEntry("rula-static", _rula))
-register_risk_index(RiskIndexEntry("kwear-reba", _kwear, features="reba"))
-register_risk_index(RiskIndexEntry("reba-static", _reba, features="reba"))
-
-
-# -- the bundled modes ---------------------------------------------------------------------------------------
-def _human_only(allowed, human, robots) -> set[tuple[str, str]]:
-    return {(action, a) for action, agents in allowed.items() for a in agents if a != human}
-
-
-def _robot_first(allowed, human, robots) -> set[tuple[str, str]]:
-    return {(action, human) for action, agents in allowed.items() if agents & set(robots)}
-
-
-register_mode(Mode("hrc", "KWear-driven allocation (paper eq. 9-11)", risk_index="kwear", table_key="kwear",
-                   paired_with="h-only"))
-register_mode(Mode("rula", "static RULA baseline (paper §7.1, Table 1)", risk_index="rula-static",
-                   table_key="rula"))
-register_mode(Mode("h-only", "the worker does everything and waits for the takt (paper §7.2)",
-                   prune=_human_only, waits_for_takt=True, uses_robot=False))
-register_mode(Mode("r-only", "every action a robot may do goes to a robot", prune=_robot_first))
-register_mode(Mode("hrc-reba", "KWear on REBA part scores, legs included (eq. 9-11 on REBA)",
-                   risk_index="kwear-reba", table_key="kwear_reba", paired_with="h-only"))
-register_mode(Mode("reba", "static REBA baseline (G(a_k) >= reba_threshold goes to the robot)",
-                   risk_index="reba-static", table_key="reba"))
-
-
-def _lookahead(*args, **kwargs):
-    from ergosim.twin.lookahead_allocator import LookaheadAllocator  # noqa: PLC0415 - it imports this module
-
-    return LookaheadAllocator(*args, **kwargs)
-
-
-def _lookahead_team(*args, **kwargs):
-    from ergosim.twin.lookahead_team_allocator import LookaheadTeamAllocator  # noqa: PLC0415 - as above
-
-    return LookaheadTeamAllocator(*args, **kwargs)
-
-
-register_mode(Mode("kwear-lookahead", "KWear costs chained along the plan, with recovery and the takt",
-                   risk_index="kwear", table_key="kwear-lookahead", paired_with="hrc", allocator=_lookahead,
-                   team_allocator=_lookahead_team))

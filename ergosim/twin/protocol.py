@@ -1,4 +1,4 @@
-"""The protocol of a simulated experiment: grouped, frozen configs (mujoco_playground's ``default_config()``).
+"""What one session of the twin runs by: grouped, frozen configs (mujoco_playground's ``default_config()``).
 
 A scenario file's ``[protocol]`` table (docs/workcell_format.md) and ``--set`` address every field by its
 own flat name (``takt = 40``, ``--set v_th=0.7``); the fields live in groups by what they shape:
@@ -6,36 +6,30 @@ own flat name (``takt = 40``, ``--set v_th=0.7``); the fields live in groups by 
 - :class:`CostConfig`, ``cost``: the hyper-arc costs (paper §4, eq. 10-11) and the static RULA and REBA
   baselines;
 - :class:`RobotConfig`, ``robot``: the robot's TCP speeds;
-- :class:`PopulationConfig`, ``population``: how many synthetic subjects, and who they are;
 - :class:`PacingConfig`, ``pacing``: the repetitions, the takt and who paces the line;
 - :class:`TeamConfig`, ``team``: team execution and negotiation (issue 17);
 - :class:`SensingConfig`, ``sensing``: the clocks and the mocap stream;
 - :class:`CalibrationConfig`, ``calibration``: the calibration of α (§5);
 - :class:`LookaheadConfig`, ``lookahead``: the ``kwear-lookahead`` mode's prices and search (issue 24).
 
-:class:`ScenarioConfig` holds the groups with the scenario's labels, modes and planner. Flat names are
-unique across the groups; :data:`PROTOCOL_KEYS` lists them in the order the file format documents them,
-:meth:`ScenarioConfig.record` writes them flat, as every output records the protocol.
+:class:`SessionConfig` holds the groups with the planner and its tie rule: everything one session needs
+(:mod:`ergosim.twin.rig` builds it). The experiment's protocol adds the scenario's labels, its modes and
+its population (:class:`ergosim.experiment.protocol.ScenarioConfig`).
 """
 
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Mapping
-from typing import Any, Literal
+from typing import Literal
 
 from ergosim.ergonomics.cost import CostParams, rula_baseline_params
 from ergosim.errors import ConfigError
-from ergosim.machine import physical_memory
-from ergosim.overrides import flat_values, replace_flat
 from ergosim.planner.tie_break import TIE_RULES
 from ergosim.robot.trajectory import CONTACT_SPEED, TRANSIT_SPEED
-from ergosim.twin.modes import mode_names, mode_or_default
 
-__all__ = ["ScenarioConfig", "CostConfig", "RobotConfig", "PopulationConfig", "PacingConfig", "TeamConfig",
-           "SensingConfig", "CalibrationConfig", "LookaheadConfig", "PROTOCOL_KEYS", "EE_SPEED_MIN",
-           "ETA_MAX_LIMIT", "PHYSICS_DT_MIN", "TAKT_MAX", "HORIZON_MAX", "SUBJECTS_MAX", "W_TIME_MAX",
-           "run_memory"]
+__all__ = ["SessionConfig", "CostConfig", "RobotConfig", "PacingConfig", "TeamConfig", "SensingConfig",
+           "CalibrationConfig", "LookaheadConfig", "EE_SPEED_MIN", "ETA_MAX_LIMIT", "PHYSICS_DT_MIN",
+           "TAKT_MAX", "HORIZON_MAX", "W_TIME_MAX"]
 
 ETA_MAX_LIMIT = 50
 """Largest eta_max (calibration passes, §5). Assumed: each pass performs every action once (about a minute
@@ -54,12 +48,6 @@ HORIZON_MAX = 86_400.0
 W_TIME_MAX = 1e6
 """Largest weight of the time term [cost per second] (assumed: the other costs are of order 1, so at 10^6 time
 already decides every choice; far larger weights overflow the costs)."""
-SUBJECTS_MAX = 10_000
-"""Most subjects of one run (a study has tens; each keeps its records in memory until the run ends)."""
-_TICK_BYTES_PER_COLUMN = 2 * 8
-"""Memory per logged tick and column [bytes]: a float64, in a log that grows by doubling."""
-
-
 def _need(ok: bool, msg: str, where: str) -> None:
     if not ok:
         raise ConfigError(msg, where=where)
@@ -130,25 +118,6 @@ class RobotConfig:
               f"{self.transit_speed:g}", where)
         _need(self.ee_speed <= self.transit_speed, f"ee_speed ({self.ee_speed} m/s, contact-critical motion) "
               f"must not exceed transit_speed ({self.transit_speed} m/s, free-space motion)", where)
-
-
-@dataclasses.dataclass(frozen=True)
-class PopulationConfig:
-    """The synthetic subjects (:func:`ergosim.worker.subjects.make_subjects`)."""
-
-    subjects: int = 1
-    female_fraction: float = 2.0 / 12.0
-    """Share of women among the synthetic subjects: §7.2's cohort, "2 females and 10 males"."""
-    pace: float = 1.0
-    """Mean pace of the subjects: 1 = MTM-1 standard performance (ergosim.worker.action_timing)."""
-
-    def validate(self, where: str) -> None:
-        _need(1 <= self.subjects <= SUBJECTS_MAX,
-              f"subjects must be in 1..{SUBJECTS_MAX}, got {self.subjects}", where)
-        _need(0 <= self.female_fraction <= 1,
-              f"female_fraction must be in [0, 1], got {self.female_fraction}", where)
-        _need(0.1 <= self.pace <= 2.0, f"pace must be in [0.1, 2] (1 = MTM-1 standard performance), got "
-              f"{self.pace}", where)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -291,92 +260,29 @@ class LookaheadConfig:
 
 
 @dataclasses.dataclass(frozen=True)
-class ScenarioConfig:
-    """The protocol of one scenario. ``scene`` and ``task`` are labels (the workcell's name, the task file's
-    name) for the outputs; ``modes``: the allocation modes run (:mod:`ergosim.twin.modes`); ``planner``:
-    ``fast`` (bottom-up) or ``paper`` (Algorithm 1); ``tie_break``: which ready action of an optimal plan
-    goes first when plans of equal cost differ only in their order (:mod:`ergosim.planner.tie_break`;
-    ``costliest-first`` is what the paper's Algorithm 1 returns). Every other field is in its group."""
+class SessionConfig:
+    """What one session runs by. ``planner``: ``fast`` (bottom-up) or ``paper`` (Algorithm 1);
+    ``tie_break``: which ready action of an optimal plan goes first when plans of equal cost differ only in
+    their order (:mod:`ergosim.planner.tie_break`; ``costliest-first`` is what the paper's Algorithm 1
+    returns). Every other field is in its group."""
 
-    scene: str
-    task: str
-    modes: tuple[str, ...] = ("hrc",)
     planner: Literal["fast", "paper"] = "fast"
     tie_break: Literal["costliest-first", "task-order", "cheapest-first"] = "costliest-first"
     cost: CostConfig = CostConfig()
     robot: RobotConfig = RobotConfig()
-    population: PopulationConfig = PopulationConfig()
     pacing: PacingConfig = PacingConfig()
     team: TeamConfig = TeamConfig()
     sensing: SensingConfig = SensingConfig()
     calibration: CalibrationConfig = CalibrationConfig()
     lookahead: LookaheadConfig = LookaheadConfig()
 
-    @classmethod
-    def of(cls, scene: str, task: str, **fields: Any) -> ScenarioConfig:
-        """A protocol from flat field names: ``ScenarioConfig.of("cell", "task", takt=40.0,
-        robot_cost=2.5)``."""
-        return replace_flat(cls(scene, task), fields)
-
-    def replace(self, **fields: Any) -> ScenarioConfig:
-        """A copy with fields changed by their flat names (``cfg.replace(subjects=1, takt=45.0)``)."""
-        return replace_flat(self, fields)
-
     def validate(self, where: str = "scenario") -> None:
-        self.population.validate(where)
         self.pacing.validate(where)
-        _need(all(m in mode_names() for m in self.modes) and len(self.modes) > 0,
-              f"modes must be among {', '.join(mode_names())}, got {','.join(self.modes)}", where)
         _need(self.tie_break in TIE_RULES, f"tie_break must be one of {', '.join(TIE_RULES)}, got "
-              f"{self.tie_break!r}", where)
+             f"{self.tie_break!r}", where)
         self.cost.validate(where)
         self.sensing.validate(where)
         self.robot.validate(where)
         self.calibration.validate(where)
         self.team.validate(where)
         self.lookahead.validate(where)
-        held, memory = run_memory(self), physical_memory()
-        _need(held <= memory / 2, f"subjects × modes × repetitions × takt = {self.population.subjects} × "
-              f"{len(self.modes)} × {self.pacing.repetitions} × {self.pacing.takt:g} s of records at "
-              f"{self.sensing.ergonomics_rate:g} Hz need about {held / 1e9:.3g} GB in memory; this machine "
-              f"has {memory / 1e9:.3g} GB (at most half of it is used)", where)
-
-    def record(self) -> dict:
-        """The protocol as the outputs record it (``summary.json`` ``config``, ``run.json``), flat by field
-        name: every field, except the team group while it keeps its defaults, ``reba_threshold`` while it
-        keeps its default, and the look-ahead's group while it keeps its defaults and no mode with its own
-        allocator runs, so a paper protocol's outputs stay as they were."""
-        out = flat_values(self)
-        own_rule = any(mode_or_default(m).allocator is not None for m in self.modes)
-        for group, default, used in ((self.team, TeamConfig(), False),
-                                     (self.lookahead, LookaheadConfig(), own_rule)):
-            if not used and group == default:
-                for key in dataclasses.asdict(group):
-                    out.pop(key)
-        if self.cost.reba_threshold == CostConfig.reba_threshold:
-            out.pop("reba_threshold")
-        return out
-
-    def team_settings(self) -> dict:
-        """The team-execution fields and their values (``team.json``)."""
-        return dataclasses.asdict(self.team)
-
-
-PROTOCOL_KEYS: tuple[str, ...] = tuple(flat_values(ScenarioConfig("scene", "task")))
-"""Every protocol key of a scenario file and of ``--set``, flat."""
-
-
-def protocol_from_record(config: Mapping[str, Any]) -> ScenarioConfig:
-    """The protocol a ``config`` of the outputs (:meth:`ScenarioConfig.record`, lists for tuples) holds."""
-    fields = {k: tuple(v) if isinstance(v, list) else v for k, v in config.items()}
-    return ScenarioConfig.of(fields.pop("scene"), fields.pop("task"), **fields)
-
-
-def run_memory(cfg: ScenarioConfig) -> float:
-    """Bytes a whole run of ``cfg`` holds in memory at its end: every subject's per-tick records of every
-    mode over the schedule (repetitions × takt at the ergonomics rate)."""
-    from ergosim.twin.records import TICK_COLUMNS  # noqa: PLC0415
-
-    ticks = cfg.pacing.horizon * cfg.sensing.ergonomics_rate
-    columns = len(TICK_COLUMNS) * _TICK_BYTES_PER_COLUMN
-    return float(cfg.population.subjects) * len(cfg.modes) * ticks * columns

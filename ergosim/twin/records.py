@@ -16,7 +16,8 @@ from ergosim.ergonomics.rula import RULA_PARTS
 from ergosim.posture import ANGLE_NAMES, KWEAR_JOINTS, STANCE
 from ergosim.worker.motion import WORKER_MEASURES
 
-__all__ = ["Allocation", "Failure", "RepetitionOutcome", "TickLog", "SubjectRun", "TICK_COLUMNS"]
+__all__ = ["Allocation", "Failure", "RepetitionOutcome", "TickLog", "SubjectRun", "TICK_COLUMNS",
+           "attempt_status"]
 
 
 TICK_COLUMNS: tuple[str, ...] = (
@@ -215,3 +216,10 @@ class SubjectRun:
     def time_above_threshold(self) -> float:
         """Seconds during which at least one joint had V_i ≥ V_th."""
         return float((self.ticks.kwear >= self.v_th).any(axis=1).sum() * self.dt_tick)
+
+
+def attempt_status(out) -> str:
+    """An attempt's ``status`` in the allocation and failure rows from how it ended (an
+    :class:`~ergosim.twin.session.Outcome`): ``done``, or ``failed:`` and the status word of the failure
+    (``unreachable (12 cm short)`` -> ``failed:unreachable``)."""
+    return "done" if out.ok else f"failed:{out.status.split(' ', 1)[0] or 'failed'}"

@@ -19,18 +19,19 @@ from ergosim.twin.allocator import Allocator, Decision, DecisionPoint
 from ergosim.twin.in_hand import CarryHook, InHandTurn, relative_pose
 from ergosim.twin.loop import Plant
 from ergosim.twin.modes import get_mode
-from ergosim.twin.protocol import ScenarioConfig
-from ergosim.twin.records import Allocation, Failure, RepetitionOutcome, SubjectRun
+from ergosim.twin.protocol import SessionConfig
+from ergosim.twin.records import Allocation, Failure, RepetitionOutcome, SubjectRun, attempt_status
+from ergosim.twin.sequential import SequentialExecution
 from ergosim.twin.ssm_monitor import SafetyMonitor
 from ergosim.worker.motion import Worker
 
-__all__ = ["Session", "Outcome", "DecisionPoint"]
+__all__ = ["Session", "Outcome", "DecisionPoint", "ACTION_TIMEOUT"]
 
 log = logging.getLogger(__name__)
 
 # Time allowed to any single action before it counts as failed [s of simulated time]; the slowest robot
 # action at 0.05 m/s takes about 30 s, the slowest human action about 8 s.
-_ACTION_TIMEOUT = 180.0
+ACTION_TIMEOUT = 180.0
 # The worker retries a failed action from wherever the part now lies; after this many failures of one action
 # in one repetition the worker's hyper-arc is pruned as well (the action is beyond what the worker can do).
 _HUMAN_ATTEMPTS = 3
@@ -50,13 +51,18 @@ class Outcome:
 
 
 class Session:
-    """Runs ``repetitions`` of the task for one subject in one mode and returns a :class:`SubjectRun`."""
+    """Runs ``repetitions`` of the task for one subject in one mode and returns a :class:`SubjectRun`.
 
-    execution = "sequential"
+    ``strategy``: how a repetition's actions are executed, the one object the session hands each repetition
+    to (:meth:`run_steps`): the paper's one action at a time (:class:`SequentialExecution`, the default)
+    or the team's parallel execution (:class:`~ergosim.twin.team_session.ParallelExecution`). Both use the
+    session's public steps: :meth:`perform`, :meth:`worker_begin` / :meth:`worker_end`, :meth:`completed`
+    and the records (:meth:`allocation`, :meth:`record_failure`, :meth:`count_failure`, :meth:`refused`,
+    :meth:`abandon`)."""
 
-    def __init__(self, *, cfg: ScenarioConfig, mode: str, subject_index: int, worker: Worker, plant: Plant,
+    def __init__(self, *, cfg: SessionConfig, mode: str, subject_index: int, worker: Worker, plant: Plant,
                  robot, allocator: Allocator, rng: np.random.Generator, negotiator=None,
-                 monitor: SafetyMonitor | None = None) -> None:
+                 monitor: SafetyMonitor | None = None, strategy=None) -> None:
         self.cfg = cfg
         self.mode = mode
         self.subject_index = subject_index
@@ -77,6 +83,13 @@ class Session:
         """A :class:`~ergosim.twin.negotiation.Negotiator` when the worker may refuse, else None."""
         self.monitor = monitor
         """The plant's speed and separation monitor (one of its hooks), or None."""
+        self.strategy = strategy if strategy is not None else SequentialExecution()
+        self.strategy.attach(self)
+
+    @property
+    def execution(self) -> str:
+        """``sequential`` or ``parallel``: the strategy's name."""
+        return self.strategy.name
 
     # -- completion, detected in the scene -----------------------------------------------------------------
     def completed(self, geom) -> bool:
@@ -108,7 +121,7 @@ class Session:
         eq = cell.model.equality(weld_name(self.hand, body)).id
         return InHandTurn(cell.model, eq, pos1, quat1, start, end)
 
-    def _worker_begin(self, geom, handover: bool = False) -> Outcome | tuple[object, CarryHook]:
+    def worker_begin(self, geom, handover: bool = False) -> Outcome | tuple[object, CarryHook]:
         """Plan the worker's motion for ``geom`` and start it, with the hook of the hand on the part: the
         motion and that hook, or a failed Outcome when the hand cannot reach the part."""
         plant, cell = self.plant, self.cell
@@ -124,7 +137,7 @@ class Session:
         plant.hooks.append(carry)
         return motion, carry
 
-    def _worker_end(self, carry: CarryHook) -> None:
+    def worker_end(self, carry: CarryHook) -> None:
         """The worker's motion is over: its hook goes, and what it carried collides again."""
         self.plant.hooks.remove(carry)
         self.cell.pass_through(carry.carried, False)
@@ -132,14 +145,14 @@ class Session:
     def _worker_action(self, geom, handover: bool = False) -> Outcome:
         plant = self.plant
         t0 = plant.time
-        begun = self._worker_begin(geom, handover)
+        begun = self.worker_begin(geom, handover)
         if isinstance(begun, Outcome):
             return begun
         motion, carry = begun
         try:
             finished = plant.run_until(lambda: not plant.track.busy, motion.duration + 1.0)
         finally:
-            self._worker_end(carry)
+            self.worker_end(carry)
         ok = finished and self._settle(geom, 0.5)
         status = "ok" if ok else ("timeout" if not finished else "not_completed")
         why = self.cell.why_not_done(geom) if status == "not_completed" else ""
@@ -152,7 +165,7 @@ class Session:
         self.robot.start(geom, plant)
         handover = geom.handover is not None
         if handover:
-            arrived = plant.run_until(lambda: self.robot.waiting or self.robot.done, _ACTION_TIMEOUT)
+            arrived = plant.run_until(lambda: self.robot.waiting or self.robot.done, ACTION_TIMEOUT)
             if not arrived or self.robot.done:
                 return self._robot_failure(t0)
             # The worker takes the part from the gripper and inserts it (paper §7.2, Fig. 8 bottom). The
@@ -160,10 +173,10 @@ class Session:
             # while the next action starts (a robot action waits for it, :meth:`perform`).
             out = self._worker_action(geom, handover=True)
             if not out.ok:
-                plant.run_until(lambda: self.robot.done, _ACTION_TIMEOUT)
+                plant.run_until(lambda: self.robot.done, ACTION_TIMEOUT)
             return Outcome(out.ok, out.status, t0, plant.time,
                             "" if out.ok else f"the worker did not complete the handover ({out.status})")
-        if not plant.run_until(lambda: self.robot.done, _ACTION_TIMEOUT):
+        if not plant.run_until(lambda: self.robot.done, ACTION_TIMEOUT):
             return Outcome(False, "timeout", t0, plant.time)
         if not self.robot.ok:
             return self._robot_failure(t0)
@@ -174,31 +187,31 @@ class Session:
                        "" if ok else f"the robot's skill ended, but {self.cell.why_not_done(geom)}")
 
     def _robot_failure(self, t0: float) -> Outcome:
-        self.plant.run_until(lambda: self.robot.done, _ACTION_TIMEOUT)
+        self.plant.run_until(lambda: self.robot.done, ACTION_TIMEOUT)
         return Outcome(False, self.robot.status_name, t0, self.plant.time, self.robot.message)
 
     def perform(self, action: str, agent: str) -> Outcome:
         """``agent`` does ``action`` now, from the scene as it is: the worker's planned motion (KWear counting
         it as the action, eq. 3) or the robot's skill, then the scene's completion check of the action's
         kind. Nothing is decided or recorded; :meth:`run` calls this for every decision."""
-        geom = self.cell.actions[action]
-        if agent != self.allocator.human:
-            if self.robot is not None and not self.robot.done:  # still on its way home from the last action
-                self.plant.run_until(lambda: self.robot.done, _ACTION_TIMEOUT)
-            self.robot = self.plant.robot = self.robots[agent]  # the plant steps the acting robot's skill
-            return self._robot_action(geom)
-        self.plant.kwear.start_action(action)
         try:
-            return self._worker_action(geom)
+            geom = self.cell.actions[action]
+            if agent != self.allocator.human:
+                if self.robot is not None and not self.robot.done:  # on its way home from the last action
+                    self.plant.run_until(lambda: self.robot.done, ACTION_TIMEOUT)
+                self.robot = self.plant.robot = self.robots[agent]  # the plant steps the acting robot's skill
+                return self._robot_action(geom)
+            self.plant.kwear.start_action(action)
+            try:
+                return self._worker_action(geom)
+            finally:
+                self.plant.kwear.finish_action()  # the online α update of §5, when enabled
         finally:
-            self.plant.kwear.finish_action()  # the online α update of §5, when enabled
+            self.strategy.after_perform(self)
 
     # -- repetitions ---------------------------------------------------------------------------------------
-    def _repetition(self, rep: int) -> bool:
-        return self._decide_all(self._repetition_steps(rep))
-
     def _decide_all(self, steps):
-        """Run the generator ``steps`` (of :meth:`_repetition_steps` or :meth:`run_steps`) to its end, the
+        """Run the generator ``steps`` (of :meth:`run_steps`) to its end, the
         allocator answering every :class:`DecisionPoint`; returns what the generator returns."""
         try:
             point = next(steps)
@@ -212,58 +225,32 @@ class Session:
         except StopIteration as stop:
             return stop.value
 
-    def _repetition_steps(self, rep: int):
-        """One repetition as a generator: it yields a :class:`DecisionPoint` whenever the allocator is asked
-        for the next (action, agent), receives the :class:`~ergosim.twin.allocator.Decision` (None: nothing
-        is left), or an InfeasiblePlanError thrown in, and returns whether the repetition completed."""
-        plant, alloc = self.plant, self.allocator
-        done: list[str] = []
-        pruned: set[tuple[str, str]] = set()
-        declined: set[tuple[str, str]] = set()  # refused by the worker for the decision being made
-        attempts: dict[str, int] = {}
-        order = 0
-        while True:
-            try:
-                decision = yield DecisionPoint(plant.v, done, pruned | declined, plant.time, rep)
-            except InfeasiblePlanError as err:
-                # Every agent that may do a remaining action failed at it: the repetition cannot finish.
-                self._abandon(rep, order, done, pruned, err.what)
-                return False
-            if decision is None:
-                return True
-            if self._refused(decision, rep, order, pruned | declined):
-                declined.add((decision.action, decision.agent))
-                order += 1
-                continue
-            declined.clear()
-            self.decisions.append(decision)
-            out = self.perform(decision.action, decision.agent)
-            if out.ok:
-                alloc.observe(decision.action, decision.agent, out.t_end - out.t_start)
-            attempt = sum(a.action == decision.action and a.status != "refused"
-                          for a in self.allocations if a.repetition == rep) + 1
-            if out.ok:
-                done.append(decision.operation)
-                pruned.clear()
-            else:
-                # Paper §2.2: a robot that cannot do an action loses its hyper-arc for this attempt and the
-                # planner re-plans without it; the worker retries from wherever the part now lies.
-                msg = (f"repetition {rep}: {decision.action} by {decision.agent} failed ({out.status}) "
-                       f"at t={out.t_end:.1f} s" + (f": {out.message}" if out.message else ""))
-                self.failures.append(Failure(out.t_end, self.subject_index, self.mode, rep, decision.action,
-                                             decision.agent, f"failed:{_reason(out.status)}", msg))
-                log.debug("subject %d, %s: %s", self.subject_index, self.mode, msg)
-                attempts[decision.action] = attempts.get(decision.action, 0) + 1
-                if (decision.agent != alloc.human or out.status.startswith("unreachable")
-                        or attempts[decision.action] >= _HUMAN_ATTEMPTS):
-                    pruned.add((decision.action, decision.agent))
-            self.allocations.append(self._allocation(decision, rep, order, out.t_start, out.t_end,
-                                                     "done" if out.ok else f"failed:{_reason(out.status)}",
-                                                     attempt))
-            order += 1
+    # -- the records of an attempt ---------------------------------------------------------------------------
+    def attempt(self, action: str, rep: int) -> int:
+        """The number of the next attempt at ``action`` in repetition ``rep`` (refusals do not count)."""
+        return sum(a.action == action and a.status != "refused" for a in self.allocations
+                   if a.repetition == rep) + 1
 
-    def _allocation(self, decision: Decision, rep: int, order: int, t_start: float, t_end: float, status: str,
-                    attempt: int) -> Allocation:
+    def record_failure(self, decision: Decision, rep: int, out: Outcome) -> None:
+        """The failure record of ``decision``'s failed attempt ``out``."""
+        msg = (f"repetition {rep}: {decision.action} by {decision.agent} failed ({out.status}) "
+               f"at t={out.t_end:.1f} s" + (f": {out.message}" if out.message else ""))
+        self.failures.append(Failure(out.t_end, self.subject_index, self.mode, rep, decision.action,
+                                     decision.agent, attempt_status(out), msg))
+        log.debug("subject %d, %s: %s", self.subject_index, self.mode, msg)
+
+    def count_failure(self, decision: Decision, out: Outcome, attempts: dict[str, int],
+                      pruned: set[tuple[str, str]]) -> None:
+        """Paper §2.2: a robot that cannot do an action loses its hyper-arc for this repetition and the
+        planner re-plans without it; the worker retries from wherever the part now lies, and loses its own
+        hyper-arc when it cannot reach the part or after :data:`_HUMAN_ATTEMPTS` failures."""
+        attempts[decision.action] = attempts.get(decision.action, 0) + 1
+        if (decision.agent != self.allocator.human or out.status.startswith("unreachable")
+                or attempts[decision.action] >= _HUMAN_ATTEMPTS):
+            pruned.add((decision.action, decision.agent))
+
+    def allocation(self, decision: Decision, rep: int, order: int, t_start: float, t_end: float, status: str,
+                   attempt: int) -> Allocation:
         alloc = self.allocator
         return Allocation(
             subject=self.subject_index, mode=self.mode, repetition=rep, order=order,
@@ -273,7 +260,7 @@ class Session:
             forced=self._forced(decision), allocatable=len(alloc.allowed[decision.action]) > 1,
         )
 
-    def _refused(self, decision: Decision, rep: int, order: int, cut: set[tuple[str, str]]) -> bool:
+    def refused(self, decision: Decision, rep: int, order: int, cut: set[tuple[str, str]]) -> bool:
         """Negotiation: the worker, offered ``decision``'s action while another agent could take it, refuses
         it (a ``refused`` row is written); False without negotiation or when no one else could."""
         alloc = self.allocator
@@ -288,18 +275,18 @@ class Session:
         if not offer.refused:
             return False
         t = self.plant.time
-        attempt = sum(a.action == decision.action and a.status != "refused"
-                      for a in self.allocations if a.repetition == rep) + 1
-        self.allocations.append(self._allocation(decision, rep, order, t, t, "refused", attempt))
+        self.allocations.append(self.allocation(decision, rep, order, t, t, "refused",
+                                                self.attempt(decision.action, rep)))
         return True
 
     def run(self, repetitions: int) -> SubjectRun:
         """``repetitions`` of the task, every decision the allocator's."""
-        return self._decide_all(self.run_steps(repetitions))
+        return self.strategy.finish(self._decide_all(self.run_steps(repetitions)))
 
     def run_steps(self, repetitions: int):
-        """:meth:`run` as a generator of :class:`DecisionPoint` (see :meth:`_repetition_steps`): whoever
-        drives it decides (the Gym environment, :mod:`ergosim.gym`); returns the :class:`SubjectRun`."""
+        """:meth:`run` as a generator of :class:`DecisionPoint` (see
+        :meth:`~ergosim.twin.sequential.SequentialExecution.repetition`): whoever drives it decides (the Gym
+        environment, :mod:`ergosim.gym`); returns the :class:`SubjectRun`."""
         plant, cfg = self.plant, self.cfg
         completed = overruns = 0
         # a takt-paced line starts every repetition at its takt slot (paper §7.2: "we fixed the takt time for
@@ -313,7 +300,7 @@ class Session:
             self.cell.reset_parts()  # the second operator lays the parts out again (§7.2)
             plant.repetition = rep
             start = plant.time
-            ok = yield from self._repetition_steps(rep)
+            ok = yield from self.strategy.repetition(self, rep)
             completed += int(ok)
             overruns += int(plant.time - start > cfg.pacing.takt)
             if ok:
@@ -369,7 +356,7 @@ class Session:
         by_mode = alloc.allowed[action] - {a for (act, a) in alloc.base_pruned if act == action}
         return decision.agent if len(by_mode) > 1 and not decision.had_choice else ""
 
-    def _abandon(self, rep: int, order: int, done: list[str], pruned: set[tuple[str, str]], why: str) -> None:
+    def abandon(self, rep: int, order: int, done: list[str], pruned: set[tuple[str, str]], why: str) -> None:
         """Record an abandoned repetition: a ``pruned`` row per action whose every allowed agent failed."""
         alloc, t = self.allocator, self.plant.time
         msg = f"repetition {rep}: abandoned, {why}"
@@ -382,16 +369,10 @@ class Session:
             agents = alloc.allowed[action]
             if action in done_actions or not all((action, a) in cut for a in agents):
                 continue
-            attempts = sum(a.action == action and a.status != "refused"
-                           for a in self.allocations if a.repetition == rep)
+            attempts = self.attempt(action, rep) - 1
             self.allocations.append(Allocation(
                 subject=self.subject_index, mode=self.mode, repetition=rep, order=order, action=action,
                 agent="", human_cost=np.nan, robot_cost=np.nan, t_start=t, t_end=t, had_choice=False,
                 status="pruned", attempt=attempts, allocatable=len(agents) > 1,
             ))
             order += 1
-
-
-def _reason(status: str) -> str:
-    """``unreachable (12 cm short)`` -> ``unreachable``: the status word of a failed attempt."""
-    return status.split(" ", 1)[0] or "failed"

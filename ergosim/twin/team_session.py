@@ -5,7 +5,9 @@ operation ready now: its children exist, nobody holds them, and precedence is me
 so). The robot fetches and presents the next profile while the worker inserts the current one; in the
 gearbox cell two sub-assemblies are built at once. A robot's handover holds only the part it fetches; at
 the handover pose the robot waits until the worker is free, and the worker serves a waiting robot before
-anything new (synchronisation). Everything else is the sequential session's (:class:`Session`): the plant,
+anything new (synchronisation). :class:`ParallelExecution` is the session's strategy for a repetition
+(composition: it drives the :class:`~ergosim.twin.session.Session`'s public steps); everything else is the
+session's, as in sequential execution: the plant,
 the worker's motion with its grasp and release hooks, the robots' skills, the scene's completion checks,
 the failure rules (a robot that fails loses its hyper-arc for the repetition; the worker retries, at most
 three times), the takt, the records.
@@ -26,14 +28,14 @@ import numpy as np
 from ergosim.errors import InfeasiblePlanError
 from ergosim.twin.allocator import Decision
 from ergosim.twin.modes import get_mode
-from ergosim.twin.records import Failure
+from ergosim.twin.records import attempt_status
 from ergosim.twin.robot_track import RobotGroup, RobotTrack
-from ergosim.twin.session import _ACTION_TIMEOUT, _HUMAN_ATTEMPTS, Outcome, Session, _reason
+from ergosim.twin.session import ACTION_TIMEOUT, Outcome
 from ergosim.twin.standoff import StandoffWatch
 from ergosim.twin.team_allocator import Busy, TeamAllocator
 from ergosim.twin.team_board import TeamBoard
 
-__all__ = ["TeamSession", "handover_early"]
+__all__ = ["ParallelExecution", "handover_early"]
 
 _WORKER_SETTLE = 0.5  # s a part the worker released may take to come to rest (as the sequential session)
 _ROBOT_SETTLE = 1.0
@@ -71,30 +73,46 @@ def handover_early(cell, allowed, robots) -> dict[tuple[str, str], str]:
             if cell.actions[action].handover is not None for r in robots if r in agents}
 
 
-class TeamSession(Session):
-    """Runs ``repetitions`` of the task for one subject in one mode with parallel execution. ``margin``: the
-    team allocator's (``team_margin`` of the protocol; None: Γ of the mode)."""
+class ParallelExecution:
+    """The execution strategy of a :class:`~ergosim.twin.session.Session` with parallel execution: every
+    idle agent starts the best operation ready now. ``margin``: the team allocator's (``team_margin`` of the
+    protocol; None: Γ of the mode). It drives the session's public steps; its own state is the jobs."""
 
-    execution = "parallel"
+    name = "parallel"
 
-    def __init__(self, *, margin: float | None = None, **kwargs) -> None:
-        super().__init__(**kwargs)
-        alloc = self.allocator
-        build = get_mode(self.mode).team_allocator or TeamAllocator
-        self.team = build(alloc, early=handover_early(self.cell, alloc.allowed, alloc.robots), margin=margin)
-        self.plant.robot = RobotGroup(self.robots.values())
-        self._ids = count()
+    def __init__(self, margin: float | None = None) -> None:
+        self.margin = margin
+        self.s = None
         self.worker_job: _Job | None = None
         self.robot_jobs: dict[str, _Job] = {}
 
+    def attach(self, session) -> None:
+        """Build the mode's team allocator on the session's, and let the plant step the robots together."""
+        self.s = session
+        alloc = session.allocator
+        build = get_mode(session.mode).team_allocator or TeamAllocator
+        self.team = build(alloc, early=handover_early(session.cell, alloc.allowed, alloc.robots),
+                          margin=self.margin)
+        session.plant.robot = RobotGroup(session.robots.values())
+        self._ids = count()
+
+    def after_perform(self, session) -> None:
+        """After one action alone (:meth:`Session.perform`), the robots step together again."""
+        session.plant.robot = RobotGroup(session.robots.values())
+
+    def finish(self, run):
+        """The run's allocation rows in decision order (jobs end out of order)."""
+        run.allocations.sort(key=lambda a: (a.repetition, a.order))
+        return run
+
     # -- one repetition --------------------------------------------------------------------------------------
-    def _repetition_steps(self, rep: int):
+    def repetition(self, session, rep: int):
         """The team decides inside the repetition's event loop: nothing is yielded to the caller."""
         return self._repetition(rep)
         yield  # pragma: no cover - makes this a generator
 
     def _repetition(self, rep: int) -> bool:
-        self.board = TeamBoard(self.allocator.graph, self.team.early)
+        self.board = TeamBoard(self.s.allocator.graph, self.team.early)
         self._rep = rep
         self._pruned: set[tuple[str, str]] = set()
         self._attempts: dict[str, int] = {}
@@ -108,9 +126,9 @@ class TeamSession(Session):
                     return False
                 if self._complete():
                     return True
-            self.plant.step()
+            self.s.plant.step()
             self._poll()
-            why = self._standoff.check(self.plant, self.worker_job is None, self.robot_jobs.values())
+            why = self._standoff.check(self.s.plant, self.worker_job is None, self.robot_jobs.values())
             if why is not None:
                 self._end_standoff(rep, why)
                 return False
@@ -120,13 +138,13 @@ class TeamSession(Session):
         return self.board.complete and self.worker_job is None and not holding
 
     def _idle(self) -> list[str]:
-        alloc = self.allocator
+        alloc = self.s.allocator
         idle = [alloc.human] if self.worker_job is None else []
-        return idle + [r for r in alloc.robots if r not in self.robot_jobs and self.robots[r].done]
+        return idle + [r for r in alloc.robots if r not in self.robot_jobs and self.s.robots[r].done]
 
     def _dispatch(self, rep: int) -> bool:
         """Start what can start now; False when the repetition is abandoned."""
-        plant = self.plant
+        plant = self.s.plant
         while True:
             if self.worker_job is None:
                 self._serve_handover(rep)
@@ -142,9 +160,9 @@ class TeamSession(Session):
                     except InfeasiblePlanError as err:
                         if self._active():
                             return True  # something still running may free what is missing
-                        self._abandon(rep, self._order, self.board.done, self._pruned, err.what)
+                        self.s.abandon(rep, self._order, self.board.done, self._pruned, err.what)
                         return False
-                    refused = next((d for d, _ in picks if self._refused(d, rep, self._order,
+                    refused = next((d for d, _ in picks if self.s.refused(d, rep, self._order,
                                                                        self._pruned | declined)), None)
                     if refused is None:
                         break
@@ -155,7 +173,7 @@ class TeamSession(Session):
             if not picks:
                 if self._active():
                     return True
-                self._abandon(rep, self._order, self.board.done, self._pruned,
+                self.s.abandon(rep, self._order, self.board.done, self._pruned,
                               "no agent can start any remaining operation")
                 return False
             started_instantly_failed = False
@@ -178,28 +196,27 @@ class TeamSession(Session):
     # -- starting jobs ---------------------------------------------------------------------------------------
     def _start(self, decision: Decision, step, rep: int) -> bool:
         """Start ``decision``; False if it failed at once (a worker who cannot reach the part)."""
-        alloc, plant = self.allocator, self.plant
-        self.decisions.append(decision)
-        geom = self.cell.actions[decision.action]
-        attempt = sum(a.action == decision.action and a.status != "refused"
-                      for a in self.allocations if a.repetition == rep) + 1
+        alloc, plant = self.s.allocator, self.s.plant
+        self.s.decisions.append(decision)
+        geom = self.s.cell.actions[decision.action]
+        attempt = self.s.attempt(decision.action, rep)
         job = _Job(next(self._ids), decision.agent, geom, decision, plant.time, self._order, attempt, rep, "")
         self._order += 1
         self.board.start(job.id, step)
         if decision.agent == alloc.human:
             plant.kwear.start_action(decision.action)
             return self._start_worker(job, handover=False)
-        track = self.robots[decision.agent]
+        track = self.s.robots[decision.agent]
         track.start(geom, plant)
         job.track = track
         job.state = "fetching" if geom.handover is not None else "moving"
-        job.deadline = plant.ticks + int(math.ceil(_ACTION_TIMEOUT / plant.dt_control))
+        job.deadline = plant.ticks + int(math.ceil(ACTION_TIMEOUT / plant.dt_control))
         self.robot_jobs[decision.agent] = job
         return True
 
     def _start_worker(self, job: _Job, handover: bool) -> bool:
-        plant = self.plant
-        begun = self._worker_begin(job.geom, handover)
+        plant = self.s.plant
+        begun = self.s.worker_begin(job.geom, handover)
         self.worker_job = job
         if isinstance(begun, Outcome):
             self._finish_worker(job, begun)
@@ -213,7 +230,7 @@ class TeamSession(Session):
         """The idle worker takes the part of the robot that has waited longest at the handover pose."""
         waiting = sorted((j for j in self.robot_jobs.values() if j.state == "waiting"), key=lambda j: j.t0)
         for robot_job in waiting:
-            take = _Job(next(self._ids), self.allocator.human, robot_job.geom, None, self.plant.time,
+            take = _Job(next(self._ids), self.s.allocator.human, robot_job.geom, None, self.s.plant.time,
                         robot_job.order, robot_job.attempt, robot_job.repetition, "", serves=robot_job)
             if self.board.join(take.id, robot_job.geom.action) is None:
                 continue  # what the part goes into is not there, or is held: the robot keeps waiting
@@ -229,25 +246,25 @@ class TeamSession(Session):
             self._poll_robot(job)
 
     def _poll_worker(self, job: _Job) -> None:
-        plant = self.plant
+        plant = self.s.plant
         if job.state == "acting":
             if plant.track.busy:
                 if plant.ticks >= job.deadline:
-                    self._worker_end(job.carried)
+                    self.s.worker_end(job.carried)
                     self._finish_worker(job, Outcome(False, "timeout", job.t0, plant.time))
                 return
-            self._worker_end(job.carried)
+            self.s.worker_end(job.carried)
             job.state = "settling"
             job.settle_until = plant.ticks + int(math.ceil(_WORKER_SETTLE / plant.dt_control))
         if job.state == "settling":
-            if self.completed(job.geom):
+            if self.s.completed(job.geom):
                 self._finish_worker(job, Outcome(True, "ok", job.t0, plant.time))
             elif plant.ticks >= job.settle_until:
                 self._finish_worker(job, Outcome(False, "not_completed", job.t0, plant.time,
-                                                 self.cell.why_not_done(job.geom)))
+                                                 self.s.cell.why_not_done(job.geom)))
 
     def _poll_robot(self, job: _Job) -> None:
-        plant, track = self.plant, job.track
+        plant, track = self.s.plant, job.track
         state = job.state
         if state == "homing":
             if track.done:
@@ -274,36 +291,36 @@ class TeamSession(Session):
                                                      track.message))
                     return
                 if job.geom.seats:
-                    self.cell.seat(job.geom.part)
+                    self.s.cell.seat(job.geom.part)
                 job.state = "settling"
                 job.settle_until = plant.ticks + int(math.ceil(_ROBOT_SETTLE / plant.dt_control))
             elif plant.ticks >= job.deadline:
                 self._robot_outcome(job, Outcome(False, "timeout", job.t0, plant.time))
                 return
         if job.state == "settling":
-            if self.completed(job.geom):
+            if self.s.completed(job.geom):
                 self._robot_outcome(job, Outcome(True, "ok", job.t0, plant.time))
             elif plant.ticks >= job.settle_until:
-                why = f"the robot's skill ended, but {self.cell.why_not_done(job.geom)}"
+                why = f"the robot's skill ended, but {self.s.cell.why_not_done(job.geom)}"
                 self._robot_outcome(job, Outcome(False, "not_completed", job.t0, plant.time, why))
 
     # -- a standoff ------------------------------------------------------------------------------------------
     def _end_standoff(self, rep: int, why: str) -> None:
         """The repetition ends in a standoff: every robot job whose action is not recorded yet fails
         (``standoff``), then the repetition is abandoned with ``why``."""
-        t = self.plant.time
+        t = self.s.plant.time
         for job in list(self.robot_jobs.values()):
             if job.state in ("moving", "settling", "fetching", "waiting"):
                 self.board.drop(job=job.id, action=job.geom.action)
                 self._record(job, Outcome(False, "standoff", job.t0, t, why))
-        self._abandon(rep, self._order, self.board.done, self._pruned, why)
+        self.s.abandon(rep, self._order, self.board.done, self._pruned, why)
 
     # -- ending jobs -----------------------------------------------------------------------------------------
     def _finish_worker(self, job: _Job, out: Outcome) -> None:
         self.worker_job = None
         self._dirty = True
         if job.serves is None:
-            self.plant.kwear.finish_action()  # the online α update of §5, when enabled
+            self.s.plant.kwear.finish_action()  # the online α update of §5, when enabled
             if out.ok:
                 self.board.finish(job.id)
             else:
@@ -314,14 +331,14 @@ class TeamSession(Session):
         if out.ok:
             self.board.finish(job.id)
             robot_job.state = "homing"  # the robot's way home goes on while the next action starts
-            self._record(robot_job, Outcome(True, "ok", robot_job.t0, self.plant.time))
+            self._record(robot_job, Outcome(True, "ok", robot_job.t0, self.s.plant.time))
             if robot_job.track.done:
                 self._free_robot(robot_job)
         else:
             self.board.drop(job=job.id)
             self.board.reserved[robot_job.geom.action] = (robot_job.agent, robot_job.geom.part)
             robot_job.state = "failing"
-            robot_job.outcome = Outcome(False, out.status, robot_job.t0, self.plant.time,
+            robot_job.outcome = Outcome(False, out.status, robot_job.t0, self.s.plant.time,
                                         f"the worker did not complete the handover ({out.status})")
 
     def _robot_outcome(self, job: _Job, out: Outcome) -> None:
@@ -345,32 +362,13 @@ class TeamSession(Session):
     def _record(self, job: _Job, out: Outcome) -> None:
         """The allocation row of ``job``'s decision, and on failure the failure record and the pruning of
         the sequential session (paper §2.2)."""
-        decision, rep, alloc = job.decision, job.repetition, self.allocator
+        decision, rep, alloc = job.decision, job.repetition, self.s.allocator
         t_end = out.t_end
         if out.ok and job.geom.handover is None:  # a handover's span includes its wait for the worker
             alloc.observe(decision.action, decision.agent, t_end - job.t0)
         if not out.ok:
-            msg = (f"repetition {rep}: {decision.action} by {decision.agent} failed ({out.status}) "
-                   f"at t={t_end:.1f} s" + (f": {out.message}" if out.message else ""))
-            self.failures.append(Failure(t_end, self.subject_index, self.mode, rep, decision.action,
-                                         decision.agent, f"failed:{_reason(out.status)}", msg))
+            self.s.record_failure(decision, rep, out)
             if rep == self._rep:  # a robot back from a failure after its repetition ended prunes nothing
-                self._attempts[decision.action] = self._attempts.get(decision.action, 0) + 1
-                if (decision.agent != alloc.human or out.status.startswith("unreachable")
-                        or self._attempts[decision.action] >= _HUMAN_ATTEMPTS):
-                    self._pruned.add((decision.action, decision.agent))
-        self.allocations.append(self._allocation(decision, rep, job.order, job.t0, t_end,
-                                                 "done" if out.ok else f"failed:{_reason(out.status)}",
-                                                 job.attempt))
-
-    def perform(self, action: str, agent: str) -> Outcome:
-        """One action alone, as :meth:`Session.perform` (the robots then step together again)."""
-        try:
-            return super().perform(action, agent)
-        finally:
-            self.plant.robot = RobotGroup(self.robots.values())
-
-    def run(self, repetitions: int):
-        run = super().run(repetitions)
-        run.allocations.sort(key=lambda a: (a.repetition, a.order))
-        return run
+                self.s.count_failure(decision, out, self._attempts, self._pruned)
+        self.s.allocations.append(self.s.allocation(decision, rep, job.order, job.t0, t_end,
+                                                    attempt_status(out), job.attempt))

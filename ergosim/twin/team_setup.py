@@ -14,7 +14,7 @@ import numpy as np
 from ergosim.twin.negotiation import Negotiator
 from ergosim.twin.session import Session
 from ergosim.twin.ssm_monitor import SafetyMonitor
-from ergosim.twin.team_session import TeamSession
+from ergosim.twin.team_session import ParallelExecution
 from ergosim.worker.refusal import RefusalModel
 
 __all__ = ["NEGOTIATION_STREAM", "refusal_model", "make_session"]
@@ -34,8 +34,9 @@ def refusal_model(cfg, seed: int, subject: int) -> RefusalModel:
 
 def make_session(cfg, *, rig, allocator, mode: str, subject: int, seed: int, rng: np.random.Generator,
                  human_seconds: dict[str, float] | None = None) -> Session:
-    """The session of one subject in one mode: :class:`TeamSession` for ``execution = "parallel"``, else the
-    sequential :class:`Session`, with the protocol's time term, negotiation and the workcell's monitoring."""
+    """The session of one subject in one mode: with the parallel strategy
+    (:class:`~ergosim.twin.team_session.ParallelExecution`) for ``execution = "parallel"``, else the
+    sequential one, with the protocol's time term, negotiation and the workcell's monitoring."""
     plant = rig.plant
     allocator.prepare(cfg=cfg, cell=rig.cell, robots=rig.robots, human_seconds=human_seconds or {})
     negotiator = None
@@ -51,5 +52,5 @@ def make_session(cfg, *, rig, allocator, mode: str, subject: int, seed: int, rng
     kwargs = dict(cfg=cfg, mode=mode, subject_index=subject, worker=rig.worker, plant=plant, robot=rig.robots,
                   allocator=allocator, rng=rng, negotiator=negotiator, monitor=monitor)
     if cfg.team.execution == "parallel":
-        return TeamSession(margin=cfg.team.team_margin, **kwargs)
+        kwargs["strategy"] = ParallelExecution(margin=cfg.team.team_margin)
     return Session(**kwargs)

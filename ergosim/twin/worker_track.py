@@ -46,10 +46,10 @@ class Segment:
     (a held rest), so the body needs posing once. Views: ``true`` (n, 22) [deg], ``stance`` (n, 4)
     [m, m, deg, deg], ``measured``
     (n, 14) [deg] what the suit reports (NaN rows are dropouts), ``rula`` (n, 7) part scores in
-    :data:`RULA_PARTS` order and ``grand`` (n,), NaN on dropouts. With a REBA index running (a
-    :class:`~ergosim.twin.features.FeatureScorer`): ``extra`` (n, k) its tick-log columns, and per feature
-    ``g_by`` (n, m) the risk index's inputs and ``whole_by`` (n,) the whole-body score (``rula``: ``g`` and
-    ``grand``).
+    :data:`RULA_PARTS` order and ``grand`` (n,), NaN on dropouts. Per posture feature, ``g_by`` (n, m) a risk
+    index's inputs and ``whole_by`` (n,) the whole-body score (``rula``, always: ``g`` and ``grand``); with
+    further features scored (a :class:`~ergosim.twin.features.FeatureScorer`), ``extra`` (n, k) their
+    tick-log columns.
     """
 
     motion: ActionMotion
@@ -119,7 +119,8 @@ class WorkerTrack:
         qpos = body_qpos(motion.angles, motion.stances)
         static = bool((qpos == qpos[0]).all())
         if self.scorer is None:
-            return Segment(motion, qpos, scores, g, acting, grasp, release, static)
+            return Segment(motion, qpos, scores, g, acting, grasp, release, static, None, {"rula": g},
+                           {"rula": grand})
         extra, g_by, whole_by = self.scorer.score(measured, motion, acting)
         return Segment(motion, qpos, scores, g, acting, grasp, release, static, extra,
                        {"rula": g, **g_by}, {"rula": grand, **whole_by})

@@ -14,7 +14,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from ergosim.planner.benchmark import _costs
+from benchmarks.planner import _costs
 from ergosim.planner.generators import generate_task
 from ergosim.planner.team import team_assign
 

@@ -1,5 +1,5 @@
 """The look-ahead planner of another git revision, loaded beside this one: ``scripts/bench_planner.py
---lookahead --baseline REV`` times both in one process, decision by decision (:mod:`ergosim.revision`).
+--lookahead --baseline REV`` times both in one process, decision by decision (:mod:`benchmarks.revision`).
 
 Only the search modules (:data:`SEARCH_MODULES`) are the revision's; everything else (the graph, the
 :class:`~ergosim.planner.wear_chain.WearModel`, the plan records) is this revision's, so both planners price
@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import types
 
-from ergosim.revision import modules_at
+from benchmarks.revision import modules_at
 
 __all__ = ["SEARCH_MODULES", "planner_at"]
 

@@ -3,7 +3,7 @@
 Each side is a long-lived Python process that imports its own ``ergosim`` (this checkout, or the revision's
 ``ergosim/`` unpacked with ``git archive``) and replays the same recording whenever asked; the two are
 asked in turn, so both see the same machine load, and each repeat is timed inside its process after a
-warm-up replay (imports and first-call costs excluded, as in :func:`~ergosim.commands.replay_benchmark.
+warm-up replay (imports and first-call costs excluded, as in :func:`~benchmarks.replay.
 bench_bvh`). The outputs of the last repeats are compared byte for byte.
 """
 
@@ -24,7 +24,7 @@ __all__ = ["OUTPUTS", "unpack_revision", "side_by_side"]
 OUTPUTS = ("ticks.csv", "summary.json", "kwear_timeline_right.png")
 """Files of a single-side replay compared between the two revisions."""
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[1]
 
 # Uses only ergosim.cli.main, which every revision has: one JSON line in (argv), one JSON line out.
 _SERVER = """

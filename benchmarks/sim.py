@@ -16,8 +16,9 @@ import mujoco
 import numpy as np
 
 from ergosim.experiment.recording import record_run
-from ergosim.experiment.runner import _calibrate, build_rig, make_allocator, scenario_subject
 from ergosim.experiment.scenario import load_scenario
+from ergosim.experiment.subject import rig_spec, scenario_subject
+from ergosim.twin.rig import build_rig, calibrate, make_allocator
 from ergosim.twin.session import Session
 from ergosim.viz import open_recording
 
@@ -30,13 +31,13 @@ def bench_repetition(scenario: str, mode: str = "hrc", seed: int = 0,
     [s], simulated time [s], and the raw mj_step wall for the same simulated time."""
     sc = load_scenario(scenario, {f"scene.{k}": v for k, v in (scene_overrides or {}).items()})
     sc = sc.with_overrides({"repetitions": str(repetitions), "modes": mode})
-    cfg = sc.protocol
+    spec, cfg = rig_spec(sc), sc.protocol.session
     subject = scenario_subject(sc, 0, seed)
-    calibration = _calibrate(sc, subject, np.random.default_rng([seed, 1]))[0]["rula"]
+    calibration = calibrate(spec, subject, np.random.default_rng([seed, 1])).calibrations["rula"]
     rng = np.random.default_rng([seed, 2])
-    rig = build_rig(sc, subject, rng, record_bodies=record, alphas=calibration.alphas)
+    rig = build_rig(spec, subject, rng, record_bodies=record, alphas=calibration.alphas)
     session = Session(cfg=cfg, mode=mode, subject_index=0, worker=rig.worker, plant=rig.plant,
-                      robot=rig.robots, allocator=make_allocator(sc, mode, rig, calibration), rng=rng)
+                      robot=rig.robots, allocator=make_allocator(cfg, mode, rig, calibration), rng=rng)
     t0 = time.perf_counter()
     run = session.run(repetitions)
     if record:
@@ -105,28 +106,28 @@ def bench_video(scenario: str = "multi-subject", seed: int = 0, repeats: int = 3
     ``speed`` (30 fps), ``repeats`` times (medians). Returns ms per frame for each stage (scene render,
     overlay, encoder), the wall time per second of simulated time, and the same repetition's simulation
     wall time with and without body poses kept (what ``--video`` adds to the run itself). Each film is made
-    with the default worker processes and, side by side, in one process (:mod:`ergosim.video.benchmark`):
+    with the default worker processes and, side by side, in one process (:mod:`benchmarks.video`):
     wall and CPU time per frame of both, the speed-up, and whether the MP4 files are byte-identical."""
 
     sc = load_scenario(scenario).with_overrides({"repetitions": "1", "modes": "hrc"})
-    cfg = sc.protocol
+    spec, cfg = rig_spec(sc), sc.protocol.session
     subject = scenario_subject(sc, 0, seed)
-    calibration = _calibrate(sc, subject, np.random.default_rng([seed, 1]))[0]["rula"]
+    calibration = calibrate(spec, subject, np.random.default_rng([seed, 1])).calibrations["rula"]
     sims = {"off": [], "on": []}
     run = rig = None
     for _ in range(repeats):
         for key in ("off", "on"):
             rng = np.random.default_rng([seed, 2])
-            rig = build_rig(sc, subject, rng, record_bodies=key == "on", alphas=calibration.alphas)
+            rig = build_rig(spec, subject, rng, record_bodies=key == "on", alphas=calibration.alphas)
             session = Session(cfg=cfg, mode="hrc", subject_index=0, worker=rig.worker, plant=rig.plant,
-                              robot=rig.robots, allocator=make_allocator(sc, "hrc", rig, calibration),
+                              robot=rig.robots, allocator=make_allocator(cfg, "hrc", rig, calibration),
                               rng=rng)
             t0 = time.perf_counter()
             r = session.run(1)
             sims[key].append(time.perf_counter() - t0)
             if key == "on":
                 run = r
-    from ergosim.video.benchmark import compare_workers  # noqa: PLC0415
+    from benchmarks.video import compare_workers  # noqa: PLC0415
     from ergosim.video.render_pool import default_workers  # noqa: PLC0415
 
     workers = default_workers()

@@ -6,8 +6,8 @@ import os
 
 from matplotlib.figure import Figure
 
+from benchmarks.planner import OVER_BUDGET, OVER_CAP, BenchRow
 from ergosim.atomic import atomic_open
-from ergosim.planner.benchmark import OVER_BUDGET, OVER_CAP, BenchRow
 
 __all__ = ["plot_benchmark"]
 

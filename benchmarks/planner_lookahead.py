@@ -8,7 +8,7 @@ the robot's from U[10, 20] s (the Panda's measured spans in the bundled cells), 
 V_th = 0.8, a takt of 10 s per action with the default takt weight Γ/takt, and the next repetition priced
 (``next_weight`` = 1). The start wear V is drawn from U[0, 0.4] per joint for each decision. Times are medians
 of repeats [ms], the replan timed in the same loop. With a ``baseline`` (another git revision's planner,
-:func:`~ergosim.planner.planner_revision.planner_at`) every decision is also taken by it, the two in
+:func:`~benchmarks.planner_revision.planner_at`) every decision is also taken by it, the two in
 alternating order, and the row says whether every plan was the same.
 """
 
@@ -89,7 +89,7 @@ def random_model(graph, rng: np.random.Generator) -> WearModel:
 
 CURRENT = types.SimpleNamespace(lookahead_plan=lookahead_plan, lookahead_team=lookahead_team)
 """This revision's planner (a baseline is another revision's:
-:func:`~ergosim.planner.planner_revision.planner_at`)."""
+:func:`~benchmarks.planner_revision.planner_at`)."""
 
 
 def _decide(planner, graph, model, v, execution: str, limits: SearchLimits):
