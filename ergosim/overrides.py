@@ -12,10 +12,12 @@ import typing
 from collections.abc import Iterable, Mapping
 from typing import Any
 
-from ergosim.errors import ConfigError, ErgosimError
+from ergosim.errors import ConfigError, ErgosimError, shown
 
 __all__ = ["parse_assignments", "apply_overrides", "field_names", "flat_values", "replace_flat",
-           "finite_float"]
+           "finite_float",
+           "list_fields"]
+
 
 
 def finite_float(raw: Any, name: str, *, where: str, error: type[ErgosimError] = ConfigError) -> float:
@@ -26,12 +28,14 @@ def finite_float(raw: Any, name: str, *, where: str, error: type[ErgosimError] =
     if not isinstance(raw, bool):
         try:
             value = float(raw)
+        except OverflowError:  # an integer beyond the largest float (10**400 is valid TOML)
+            value = math.inf
         except (TypeError, ValueError):
             pass
     if value is None:
-        raise error(f"{name}={raw!r} is not a number", where=where)
+        raise error(f"{name}={shown(raw)} is not a number", where=where)
     if not math.isfinite(value):
-        raise error(f"{name}={raw!r} is not a finite number", where=where)
+        raise error(f"{name}={shown(raw)} is not a finite number", where=where)
     return value
 
 
@@ -51,6 +55,12 @@ def field_names(cfg: Any) -> tuple[str, ...]:
     """The keys a user sets on ``cfg``: its fields, and the fields of its groups (fields that are frozen
     dataclasses themselves) by their own names, which are unique."""
     return tuple(_flat_fields(type(cfg)))
+
+
+def list_fields(cls: type) -> frozenset[str]:
+    """The flat keys of the config dataclass ``cls`` that hold a tuple (a list in a file, a comma list in
+    ``--set``)."""
+    return frozenset(k for k, (_, hint) in _flat_fields(cls).items() if typing.get_origin(hint) is tuple)
 
 
 def _flat_fields(cls: type) -> dict[str, tuple[str | None, Any]]:

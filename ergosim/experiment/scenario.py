@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from ergosim.errors import ConfigError, TaskFileError
-from ergosim.overrides import apply_overrides
+from ergosim.overrides import apply_overrides, list_fields
 from ergosim.planner import AndOrGraph, bundled_task_source, bundled_task_text, task_from_dict
 from ergosim.planner.bundled import BUNDLED_TASKS
 from ergosim.planner.task_overrides import apply_task_overrides
@@ -34,6 +34,7 @@ log = logging.getLogger(__name__)
 
 _TOP = {"name", "description", "task", "workcell", "protocol"}
 _LABEL_FIELDS = ("scene", "task")
+_LIST_FIELDS = list_fields(ScenarioConfig)
 
 SCENARIOS: Registry[Path] = Registry("scenario", where="ergosim run", hint="or the path of a scenario file")
 """The scenario files by name."""
@@ -250,6 +251,10 @@ def load_scenario(name_or_path: str | os.PathLike[str],
     missing = [k for k in ("subjects", "repetitions", "modes", "robot_cost") if k not in protocol]
     if missing:
         raise ConfigError(f"missing key {missing[0]!r}", where=f"{source}: protocol")
+    for key, value in protocol.items():  # a --set string is a comma list; in a file, a list is a list
+        if key in _LIST_FIELDS and not isinstance(value, list):
+            raise ConfigError(f"{key} must be a list such as {key} = [\"hrc\"], got {value!r}",
+                              where=f"{source}: protocol.{key}")
     base = ScenarioConfig(scene=cell.name, task=task_label)
     cfg = apply_overrides(base, {k: (tuple(v) if isinstance(v, list) else v) for k, v in protocol.items()},
                           where=f"{source}: protocol")

@@ -103,6 +103,7 @@ class _Builder:
         self.agents = self.read_agents()
         ops, origins = self.read_operations()
         liaisons = self.read_liaisons()
+        self.check_actions_unique(ops, liaisons)
         precedence = self.read_precedence(liaisons)
         if not ops and not liaisons and len(self.parts) > 1:
             raise _fail("a task needs [[operations]] or [[liaisons]]", self.source)
@@ -269,6 +270,18 @@ class _Builder:
             agents, costs = self.read_agent_costs(entry, at)
             liaisons.append(Liaison(parts[0], parts[1], action, agents, costs))
         return liaisons
+
+    def check_actions_unique(self, ops: list[Operation], liaisons: list[Liaison]) -> None:
+        """One label = one physical action: no two hand-written operations or liaisons share an action (the
+        operations generated from one liaison do, as they are its one join made in different orders)."""
+        first: dict[str, str] = {}
+        entries = [(f"operations[{i}] {op.name!r}", op.action) for i, op in enumerate(ops)]
+        entries += [(f"liaisons[{i}]", lia.action) for i, lia in enumerate(liaisons)]
+        for at, action in entries:
+            if action in first:
+                raise _fail(f"action {action!r} is also the action of {first[action]}: one label is one "
+                            "physical action; give each its own label", self.at(at))
+            first[action] = at
 
     def read_precedence(self, liaisons: list[Liaison]) -> list[tuple[str, str]]:
         known = {lia.action for lia in liaisons}

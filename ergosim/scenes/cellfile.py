@@ -44,7 +44,7 @@ from ergosim.scenes.cellspec import (
 )
 
 __all__ = ["read_cell_file", "parse_cell", "apply_cell_overrides", "override_paths", "cell_keys",
-           "MAX_FILE_BYTES", "TURN_TIME_MAX"]
+           "MAX_FILE_BYTES", "TURN_TIME_MAX", "MAX_PART_MASS", "MAX_DENSITY", "MAX_MESH_TRIANGLES"]
 
 MAX_FILE_BYTES = 4 * 1024 * 1024
 """Largest workcell or scenario file read [bytes]; a cell is a few kB."""
@@ -78,6 +78,14 @@ _TARGET = {"on": "str", "xy": ("floats", 2), "yaw": "float", "part": "str", "pos
 TURN_TIME_MAX = 600.0
 """Longest hold-and-turn of a fastening [s] (assumed: ten minutes is no longer one action; the worker's motion
 holds a pose per mocap frame of it)."""
+MAX_PART_MASS = 100.0
+"""Heaviest part [kg] (assumed: four times the load constant of the NIOSH lifting equation, 23 kg (Waters et
+al. 1993), far beyond what is carried by hand in an assembly cell; 1e30 kg made the physics diverge)."""
+MAX_DENSITY = 22_590.0
+"""Densest part material [kg/m^3]: osmium, the densest element (CRC Handbook of Chemistry and Physics)."""
+MAX_MESH_TRIANGLES = 50_000
+"""Most triangles of a part's STL mesh (assumed: the bundled robot meshes have at most 1,176; a 199,000-
+triangle STL, under MuJoCo's cap of 200,000, kept the build busy past 240 s)."""
 _ACTION = {"kind": "str", "part": "str", "target": "str", "handover": "str", "turn_time": "float"}
 _VIEW = {"azimuth": "float", "elevation": "float", "distance": "float", "lookat": ("floats", 3)}
 _SAFETY = {"ssm": "str", "human_speed": "float", "measured_speed": "bool", "reaction_time": "float",
@@ -144,7 +152,10 @@ def _value(raw: Any, kind: Any, where: str, name: str = "value") -> Any:
     if kind == "pairs":
         if not isinstance(raw, list | tuple):
             raise ConfigError(f"expected [[segment, factor], ...], got {raw!r}", where=where)
-        return tuple((str(s), _value(f, "float", where, str(s))) for s, f in raw)
+        if not all(isinstance(p, list | tuple) and len(p) == 2 and isinstance(p[0], str) for p in raw):
+            raise ConfigError(f"expected [[segment, factor], ...] (a list of name, number pairs), got "
+                              f"{raw!r}", where=where)
+        return tuple((s, _value(f, "float", where, s)) for s, f in raw)
     if isinstance(kind, tuple) and kind[0] == "floats":
         n = kind[1]
         items = [s for s in raw.split(",") if s.strip()] if isinstance(raw, str) else raw
@@ -280,6 +291,11 @@ def parse_cell(doc: Mapping[str, Any], source: str = "<inline>") -> CellSpec:
         if t in doc and not isinstance(doc[t], dict):
             raise ConfigError(f"expected a table, got {doc[t]!r}", where=f"{source}: {t}")
     at = lambda entry: f"{source}: {entry}"  # noqa: E731
+    for alias, paths in doc.get("aliases", {}).items():
+        if not (isinstance(paths, str) or isinstance(paths, list) and paths
+                and all(isinstance(s, str) for s in paths)):
+            raise ConfigError(f"an alias stands for a dotted path or a list of them, got {paths!r}",
+                              where=at(f"aliases.{alias}"))
     worker = Worker(**_fields(doc.get("worker", {}), _WORKER, at("worker")))
     furniture = tuple(_furniture(name, t, at(f"furniture.{name}"))
                       for name, t in doc.get("furniture", {}).items())
@@ -352,6 +368,12 @@ def _part(name: str, t: Any, where: str) -> Part:
     names = [s.name for s in slots]
     if len(set(names)) != len(names):
         raise ConfigError(f"duplicate slot names {names}", where=f"{where}.slots")
+    for i, a in enumerate(slots):
+        for b in slots[i + 1:]:
+            if math.dist(a.at, b.at) < _SLOT_GAP:
+                raise ConfigError(f"slots {a.name!r} and {b.name!r} overlap: their seats are "
+                                  f"{math.dist(a.at, b.at) * 1000:.1f} mm apart (at least "
+                                  f"{_SLOT_GAP * 1000:.0f} mm)", where=f"{where}.slots")
     part = Part(**{**part.__dict__, "slots": tuple(slots)})
     positive = {"cylinder": ("radius", "length"), "mesh": ("scale",), "socket_block": ("bore", "wall",
                                                                                  "sleeve_length")}
@@ -365,13 +387,40 @@ def _part(name: str, t: Any, where: str) -> Part:
             raise ConfigError(f"no such mesh file {part.file!r}", where=f"{where}.file")
         if not part.file.lower().endswith(".stl"):
             raise ConfigError(f"meshes are STL files, got {part.file!r}", where=f"{where}.file")
+        n = _stl_triangles(Path(part.file))
+        if n > MAX_MESH_TRIANGLES:
+            raise ConfigError(f"{part.file!r} has {n} triangles, more than the limit of {MAX_MESH_TRIANGLES} "
+                              "(ergosim.scenes.cellfile.MAX_MESH_TRIANGLES; simplify the mesh)",
+                              where=f"{where}.file")
     if part.total_mass() is None and part.density is None:
         raise ConfigError("give mass [kg] or density [kg/m^3]", where=where)
     if (part.total_mass() or 1.0) <= 0 or (part.density is not None and part.density <= 0):
         raise ConfigError("mass and density must be > 0", where=where)
+    if part.density is not None and part.density > MAX_DENSITY:
+        raise ConfigError(f"density {part.density:g} kg/m^3 is above osmium's {MAX_DENSITY:g}, the densest "
+                          "element (ergosim.scenes.cellfile.MAX_DENSITY)", where=f"{where}.density")
+    if (part.total_mass() or 0.0) > MAX_PART_MASS:
+        raise ConfigError(f"a mass of {part.total_mass():g} kg is above the limit of {MAX_PART_MASS:g} kg "
+                          "(assumed: 4 x the NIOSH lifting equation's 23 kg; "
+                          "ergosim.scenes.cellfile.MAX_PART_MASS)",
+                          where=f"{where}.mass")
     if (part.xy is None) == (part.pos is None):
         raise ConfigError("give either xy (resting on a surface) or pos (a full pose)", where=where)
     return part
+
+
+_SLOT_GAP = 0.005
+"""Least distance between two slots' seats on one part [m] (assumed: the 5 mm the overlap checks allow)."""
+
+
+def _stl_triangles(path: Path) -> int:
+    """Triangles of the STL file at ``path``: a binary STL's count (bytes 80-84), or an ASCII STL's facets."""
+    with path.open("rb") as f:
+        head = f.read(84)
+    size = path.stat().st_size
+    if len(head) == 84 and size == 84 + 50 * int.from_bytes(head[80:84], "little"):
+        return int.from_bytes(head[80:84], "little")
+    return path.read_bytes().count(b"endfacet")
 
 
 def _target(name: str, t: Any, where: str) -> Target:
@@ -450,6 +499,7 @@ def _check(spec: CellSpec, at) -> None:
                                       where=at(f"{entry}.base"))
     for p in spec.parts:
         _check_part_pose(spec, p, surfaces, at(f"parts.{p.name}"))
+    _check_footprints(spec, at)
     for t in spec.targets:
         entry = f"targets.{t.name}"
         if t.kind == "place":
@@ -503,6 +553,29 @@ def _check_part_pose(spec: CellSpec, p: Part, surfaces, where: str) -> None:
                           f"{(s.height - bottom) * 1000:.0f} mm below the top", where=f"{where}.pos")
 
 
+def _check_footprints(spec: CellSpec, at) -> None:
+    """Two parts resting on one surface are not at the same place: neither's centre is within the other's
+    footprint. (Footprints that only overlap at their edges are left to the physics, which parts them.)"""
+    resting = [(p, (spec.surface_under(p.xy) if p.on in (None, "auto") else spec.surfaces()[p.on]).name)
+               for p in spec.parts if p.xy is not None]
+    for i, (p, s) in enumerate(resting):
+        for q, r in resting[i + 1:]:
+            if s == r and (_covers(p, q.xy) or _covers(q, p.xy)):
+                raise ConfigError(f"parts {p.name!r} and {q.name!r} are at the same place on the {s} (xy "
+                                  f"{p.xy} and {q.xy}: one stands on the other's centre); move one of them",
+                                  where=at(f"parts.{q.name}.xy"))
+
+
+def _covers(part: Part, xy) -> bool:
+    """Whether the point ``xy`` [m] is within the footprint of the resting ``part`` (its rectangle at its xy,
+    turned by its yaw)."""
+    yaw = math.radians(part.yaw)
+    dx, dy = xy[0] - part.xy[0], xy[1] - part.xy[1]
+    along, across = dx * math.cos(yaw) + dy * math.sin(yaw), -dx * math.sin(yaw) + dy * math.cos(yaw)
+    hx, hy = part.half_extents[:2]
+    return abs(along) <= hx and abs(across) <= hy
+
+
 def _lowest(p: Part) -> float:
     """Depth [m] of the part's lowest point below its frame origin at its pose."""
     row = to_mat(from_rpy(p.rpy or (0.0, 0.0, p.yaw), degrees=True))[2]
@@ -552,6 +625,17 @@ def _check_actions(spec: CellSpec, at) -> None:
             raise ConfigError(f"turn_time belongs to actions that hold a seated part ("
                               f"{', '.join(k for k, v in ACTION_KINDS.items() if v.holds)}), not to "
                               f"{a.kind}", where=at(f"{entry}.turn_time"))
+    same: dict[tuple[str, str, str], str] = {}
+    for a in spec.actions:
+        first = same.setdefault((a.kind, a.part, a.target), a.label)
+        if first != a.label:
+            raise ConfigError(f"actions {first!r} and {a.label!r} are one physical action ({a.kind} {a.part} "
+                              f"to {a.target}) under two labels", where=at(f"actions.{a.label}"))
+    into = [a.target for a in spec.actions if ACTION_KINDS[a.kind].seats]
+    full = {s for s in into if into.count(s) > 1}
+    if full:
+        raise ConfigError(f"a slot takes one part, but two actions seat a part in {sorted(full)}",
+                          where=at("actions"))
     seats = [a.part for a in spec.actions if ACTION_KINDS[a.kind].seats]
     dup = {p for p in seats if seats.count(p) > 1}
     if dup:
