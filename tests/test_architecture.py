@@ -19,9 +19,9 @@ PACKAGE = ROOT / "ergosim"
 
 # The layers, lowest first: a module may import its own layer and the layers below, never one above.
 LAYERS: tuple[tuple[str, ...], ...] = (
-    # 0 foundation: errors, file writing, registries, parsing helpers, logging
-    ("__init__", "errors", "atomic", "registry", "plugins", "logs", "overrides", "posture", "progress",
-     "exports", "quat", "machine", "held_signals", "g9_csv", "revision", "blas_kernel"),
+    # 0 foundation: errors, file writing, registries, the schema of the file formats, logging
+    ("__init__", "errors", "atomic", "registry", "plugins", "logs", "overrides", "schema", "posture",
+     "progress", "exports", "quat", "machine", "held_signals", "g9_csv", "revision", "blas_kernel"),
     # 1 the models: body, risk, robot, worker motion, task planning, workcells
     ("human", "ergonomics", "robot", "worker", "planner", "scenes"),
     # 2 the simulation: loop, sessions, allocators, tracks

@@ -18,13 +18,14 @@ from ergosim.planner.agents import Agent, Operation, check_cost, check_name
 from ergosim.planner.graph import AndOrGraph
 from ergosim.planner.liaisons import Liaison, generate_operations, liaison_groups
 from ergosim.planner.limits import check_operation_count, check_part_count
+from ergosim.planner.task_schema import LiaisonTable, OperationTable, TopTable
 from ergosim.planner.validation import format_parts
 
 __all__ = ["load_task", "parse_task", "task_from_dict", "MAX_TASK_BYTES"]
 
-_TOP_KEYS = {"name", "description", "parts", "agents", "operations", "liaisons", "precedence"}
-_OP_KEYS = {"name", "action", "joins", "father", "cost", "agents"}
-_LIAISON_KEYS = {"parts", "action", "cost", "agents"}
+_TOP_KEYS = set(TopTable.model_fields)
+_OP_KEYS = set(OperationTable.model_fields)
+_LIAISON_KEYS = set(LiaisonTable.model_fields)
 
 
 MAX_TASK_BYTES = 64 << 20

@@ -10,7 +10,6 @@ file, the entry and what was expected.
 
 from __future__ import annotations
 
-import copy
 import math
 import os
 import tomllib
@@ -22,10 +21,23 @@ import numpy as np
 
 from ergosim.errors import ConfigError
 from ergosim.human.anthropometry import SEGMENT_SCALES
-from ergosim.overrides import finite_float
 from ergosim.quat import from_rpy, to_mat
 from ergosim.robot.robot_model import default_robot, robot_names
 from ergosim.robot.ssm import SSMParams
+from ergosim.scenes.cell_schema import (
+    CELL,
+    FURNITURE,
+    TABLES,
+    ActionTable,
+    PartTable,
+    RobotTable,
+    SafetyTable,
+    SlotTable,
+    TargetTable,
+    TopTable,
+    ViewTable,
+    WorkerTable,
+)
 from ergosim.scenes.cellspec import (
     ACTION_KINDS,
     COUPLINGS,
@@ -42,6 +54,8 @@ from ergosim.scenes.cellspec import (
     View,
     Worker,
 )
+from ergosim.schema.document import check_table, override, paths
+from ergosim.schema.values import AXES
 
 __all__ = ["read_cell_file", "parse_cell", "apply_cell_overrides", "override_paths", "cell_keys",
            "MAX_FILE_BYTES", "TURN_TIME_MAX", "MAX_PART_MASS", "MAX_DENSITY", "MAX_MESH_TRIANGLES"]
@@ -49,32 +63,6 @@ __all__ = ["read_cell_file", "parse_cell", "apply_cell_overrides", "override_pat
 MAX_FILE_BYTES = 4 * 1024 * 1024
 """Largest workcell or scenario file read [bytes]; a cell is a few kB."""
 
-_AXES = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0),
-         "-x": (-1.0, 0.0, 0.0), "-y": (0.0, -1.0, 0.0), "-z": (0.0, 0.0, -1.0)}
-
-# Field types per table: "float", "int", "str", "bool", ("floats", n) (n = None: any length), "pairs".
-_TOP = {"name": "str", "description": "str", "timestep": "float", "seat_tolerance": "float",
-        "seat_tolerance_deg": "float", "place_tolerance": "float", "carry_height": "float",
-        "grasp_tolerance": "float"}
-_TABLES = ("aliases", "worker", "robots", "furniture", "parts", "targets", "actions", "views", "safety")
-_WORKER = {"name": "str", "xy": ("floats", 2), "yaw": "float", "hand": "str", "stature": "float",
-           "human_scale": "pairs", "standing_area": ("floats", 4), "max_turn": "float"}
-_ROBOT = {"model": "str", "base": ("floats", 3), "yaw": "float", "support": "str", "park_clearance": "float"}
-_FURNITURE = {
-    "table": {"type": "str", "center": ("floats", 2), "size": ("floats", 2), "height": "float",
-              "thickness": "float", "legs": "bool", "rgba": ("floats", 4)},
-    "shelf": {"type": "str", "center": ("floats", 2), "size": ("floats", 2), "height": "float",
-              "low_height": "float", "top_depth": "float", "thickness": "float", "rgba": ("floats", 4)},
-    "box": {"type": "str", "center": ("floats", 3), "half": ("floats", 3), "rgba": ("floats", 4),
-            "stand_to": "str", "stand_offset": ("floats", 2), "stand_half": ("floats", 2)},
-}
-_PART = {"shape": "str", "size": ("floats", 3), "radius": "float", "length": "float", "file": "str",
-         "scale": "float", "bore": "float", "clearance": "float", "wall": "float", "sleeve_length": "float",
-         "sleeves": "strs", "mass": "float", "density": "float", "section_area": "float",
-         "rgba": ("floats", 4), "on": "str", "xy": ("floats", 2), "yaw": "float", "pos": ("floats", 3),
-         "rpy": ("floats", 3), "insert_axis": "str", "grasp": "str", "slots": "slots", "coupling": "str"}
-_SLOT = {"name": "str", "at": ("floats", 3), "axis": "axis"}
-_TARGET = {"on": "str", "xy": ("floats", 2), "yaw": "float", "part": "str", "pos": ("floats", 3)}
 TURN_TIME_MAX = 600.0
 """Longest hold-and-turn of a fastening [s] (assumed: ten minutes is no longer one action; the worker's motion
 holds a pose per mocap frame of it)."""
@@ -86,11 +74,6 @@ MAX_DENSITY = 22_590.0
 MAX_MESH_TRIANGLES = 50_000
 """Most triangles of a part's STL mesh (assumed: the bundled robot meshes have at most 1,176; a 199,000-
 triangle STL, under MuJoCo's cap of 200,000, kept the build busy past 240 s)."""
-_ACTION = {"kind": "str", "part": "str", "target": "str", "handover": "str", "turn_time": "float"}
-_VIEW = {"azimuth": "float", "elevation": "float", "distance": "float", "lookat": ("floats", 3)}
-_SAFETY = {"ssm": "str", "human_speed": "float", "measured_speed": "bool", "reaction_time": "float",
-           "stopping_time": "float", "intrusion": "float", "human_uncertainty": "float",
-           "robot_uncertainty": "float"}
 
 
 def read_cell_file(path: str | os.PathLike[str]) -> dict[str, Any]:
@@ -117,122 +100,49 @@ def read_toml(path: str | os.PathLike[str], what: str) -> dict[str, Any]:
         raise ConfigError(f"cannot read the {what}: {err}", where=str(path)) from None
 
 
-# -- values ----------------------------------------------------------------------------------------------
-def _value(raw: Any, kind: Any, where: str, name: str = "value") -> Any:
-    """``raw`` (a TOML value or a ``--set`` string) of the field ``name`` as ``kind``; ConfigError naming
-    ``where`` otherwise."""
-    if kind == "str":
-        if not isinstance(raw, str) or not raw:
-            raise ConfigError(f"expected a non-empty string, got {raw!r}", where=where)
-        return raw
-    if kind == "strs":
-        items = raw.split(",") if isinstance(raw, str) else raw
-        if not isinstance(items, list | tuple) or not all(isinstance(s, str) and s.strip() for s in items):
-            raise ConfigError(f"expected a list of names, got {raw!r}", where=where)
-        return tuple(s.strip() for s in items)
-    if kind == "bool":
-        if isinstance(raw, bool):
-            return raw
-        if isinstance(raw, str) and raw.lower() in ("true", "false", "1", "0", "yes", "no"):
-            return raw.lower() in ("true", "1", "yes")
-        raise ConfigError(f"expected true or false, got {raw!r}", where=where)
-    if kind == "float":
-        return finite_float(raw, name, where=where)
-    if kind == "axis":
-        if isinstance(raw, str):
-            if raw not in _AXES:
-                raise ConfigError(f"expected one of {', '.join(_AXES)} or 3 numbers, got {raw!r}",
-                                  where=where)
-            return _AXES[raw]
-        v = _value(raw, ("floats", 3), where, name)
-        n = math.sqrt(sum(x * x for x in v))
-        if n < 1e-9:
-            raise ConfigError("the axis must not be zero", where=where)
-        return tuple(x / n for x in v)
-    if kind == "pairs":
-        if not isinstance(raw, list | tuple):
-            raise ConfigError(f"expected [[segment, factor], ...], got {raw!r}", where=where)
-        if not all(isinstance(p, list | tuple) and len(p) == 2 and isinstance(p[0], str) for p in raw):
-            raise ConfigError(f"expected [[segment, factor], ...] (a list of name, number pairs), got "
-                              f"{raw!r}", where=where)
-        return tuple((s, _value(f, "float", where, s)) for s, f in raw)
-    if isinstance(kind, tuple) and kind[0] == "floats":
-        n = kind[1]
-        items = [s for s in raw.split(",") if s.strip()] if isinstance(raw, str) else raw
-        if not isinstance(items, list | tuple):
-            raise ConfigError(f"expected {n} numbers, got {raw!r}", where=where)
-        if n is not None and len(items) != n:
-            raise ConfigError(f"expected {n} numbers, got {len(items)} ({raw!r})", where=where)
-        return tuple(_value(x, "float", where, name) for x in items)
-    raise AssertionError(kind)
-
-
-def _fields(table: Any, schema: Mapping[str, Any], where: str, required: tuple[str, ...] = ()) -> dict:
-    if not isinstance(table, dict):
-        raise ConfigError(f"expected a table, got {table!r}", where=where)
-    unknown = sorted(set(table) - set(schema))
-    if unknown:
-        raise ConfigError(f"unknown key {unknown[0]!r}; valid keys: {', '.join(schema)}", where=where)
-    missing = [k for k in required if k not in table]
-    if missing:
-        raise ConfigError(f"missing key {missing[0]!r}", where=where)
-    return {k: _value(v, schema[k], f"{where}.{k}", k) if schema[k] != "slots" else v
-            for k, v in table.items()}
-
-
 # -- overrides -------------------------------------------------------------------------------------------
 def cell_keys(doc: Mapping[str, Any]) -> list[str]:
     """Every settable dotted path of ``doc`` (existing entries' fields) plus its aliases."""
-    keys = [k for k in _TOP if k != "name"]
-    keys += [f"worker.{k}" for k in _WORKER]
-    keys += [f"safety.{k}" for k in _SAFETY]
-    for section, schema_of in (("robots", lambda _t: _ROBOT), ("parts", lambda _t: _PART),
-                               ("targets", lambda _t: _TARGET), ("actions", lambda _t: _ACTION),
-                               ("views", lambda _t: _VIEW),
-                               ("furniture", lambda t: _FURNITURE.get(t.get("type", "table"), {}))):
-        for name, table in (doc.get(section) or {}).items():
-            if isinstance(table, dict):
-                keys += [f"{section}.{name}.{k}" for k in schema_of(table) if k not in ("type", "slots")]
-    for name, table in (doc.get("parts") or {}).items():
-        for slot in (table.get("slots") or []) if isinstance(table, dict) else []:
-            if isinstance(slot, dict) and isinstance(slot.get("name"), str):
-                keys += [f"parts.{name}.slots.{slot['name']}.{k}" for k in _SLOT if k != "name"]
-    return keys + sorted(doc.get("aliases") or {})
+    return paths(CELL, doc) + sorted(doc.get("aliases") or {})
 
 
 def apply_cell_overrides(doc: Mapping[str, Any], overrides: Mapping[str, Any], where: str) -> dict[str, Any]:
     """A deep copy of the cell document ``doc`` with ``overrides`` (dotted path or alias -> value) set.
 
-    Values may be strings (``"0.2,0.8"``) or already typed; they are converted when the cell is parsed. An
-    alias may stand for several paths (``assembly_yaw`` turns both targets that use it)."""
-    out = copy.deepcopy(dict(doc))
+    A string (``"0.2,0.8"``) is converted by its field's kind (:mod:`ergosim.scenes.cell_schema`), a value
+    already typed is set as it is; both are checked when the cell is parsed. An alias may stand for several
+    paths (``assembly_yaw`` turns both targets that use it)."""
+    out = dict(doc)
     aliases = out.get("aliases") or {}
-    valid = set(cell_keys(out))
+
+    def unknown(key: str, valid: list[str]) -> str:
+        sample = ", ".join(sorted(aliases) or valid[:12])
+        return f"unknown key {key!r}; valid keys include: {sample} (or a dotted path such as parts.<name>.xy)"
+
     for key, value in overrides.items():
         for path in override_paths(out, key):
-            if path not in valid:
-                sample = ", ".join(sorted(aliases) or cell_keys(out)[:12])
-                raise ConfigError(f"unknown key {key!r}; valid keys include: {sample} (or a dotted path such "
-                                  f"as parts.<name>.xy)", where=where)
-            node = out
-            *head, last = path.split(".")
-            for i, k in enumerate(head):
-                if k == "slots" and i == 2:  # [[parts.P.slots]] is an array: a slot is named by its name
-                    node = next(s for s in node["slots"] if s.get("name") == head[3])
-                    break
-                node = node.setdefault(k, {})
-            node[last] = _coerce(value, _kind_of(out, path), key, where) if isinstance(value, str) \
-                else value
-            for other in _EXCLUSIVE.get((head[0], last), ()) if head else ():
-                node.pop(other, None)  # a full pose replaces a resting placement, and the other way round
+            out = override(CELL, out, {path: value}, where, said=lambda _p, k=key: k,
+                           unknown=lambda _p, valid, k=key: unknown(k, valid))
+            section, last = path.split(".")[0], path.split(".")[-1]
+            for other in _EXCLUSIVE.get((section, last), ()):
+                _node(out, path).pop(other, None)  # a full pose replaces a resting placement, and vice versa
     return out
+
+
+def _node(doc: dict, path: str) -> dict:
+    """The table holding the field at ``path`` (a slot is named by its name in its array)."""
+    *head, _ = path.split(".")
+    node = doc
+    for i, k in enumerate(head):
+        node = next(s for s in node if s.get("name") == k) if isinstance(node, list) else node[k]
+    return node
 
 
 def override_paths(doc: Mapping[str, Any], key: str) -> list[str]:
     """The dotted paths of ``doc`` that the override ``key`` sets: ``key`` itself, or what its alias stands
     for (the file's ``[aliases]``)."""
-    paths = (doc.get("aliases") or {}).get(key, key)
-    return [paths] if isinstance(paths, str) else list(paths)
+    named = (doc.get("aliases") or {}).get(key, key)
+    return [named] if isinstance(named, str) else list(named)
 
 
 _EXCLUSIVE = {("parts", "pos"): ("xy", "on"), ("parts", "xy"): ("pos", "rpy"),
@@ -240,78 +150,38 @@ _EXCLUSIVE = {("parts", "pos"): ("xy", "on"), ("parts", "xy"): ("pos", "rpy"),
 """Setting the first field of a placement by override drops the fields of the other kind of placement."""
 
 
-def _kind_of(doc: Mapping[str, Any], path: str) -> Any:
-    parts = path.split(".")
-    if len(parts) == 1:
-        return _TOP[parts[0]]
-    if parts[0] == "worker":
-        return _WORKER[parts[1]]
-    if parts[0] == "safety":
-        return _SAFETY[parts[1]]
-    section, name, key = parts[0], parts[1], parts[2]
-    if key == "slots":
-        return _SLOT[parts[4]]
-    if section == "furniture":
-        return _FURNITURE[doc["furniture"][name].get("type", "table")][key]
-    schemas = {"robots": _ROBOT, "parts": _PART, "targets": _TARGET, "actions": _ACTION, "views": _VIEW}
-    return schemas[section][key]
-
-
-def _coerce(raw: str, kind: Any, key: str, where: str) -> Any:
-    """A ``--set`` string as the TOML value of a field of ``kind``; errors name ``key='raw'``."""
-    said = f"{key}={raw!r}"
-    if kind == "axis" and raw.strip() in _AXES:
-        return raw.strip()
-    n = 3 if kind == "axis" else kind[1] if isinstance(kind, tuple) else None
-    if kind in ("pairs", "axis") or isinstance(kind, tuple):
-        items = [s.strip() for s in raw.split(",")] if raw.strip() else []
-        if any(not s for s in items):
-            raise ConfigError(f"{said} has an empty value between commas", where=where)
-        if kind == "pairs":
-            pairs = [s.split(":") for s in items]
-            if not pairs or any(len(p) != 2 or not p[0].strip() for p in pairs):
-                raise ConfigError(f"{said}: expected name:value pairs separated by commas, e.g. "
-                                  f"{key}=upper_arm:1.1,forearm:0.95", where=where)
-            return [[name.strip(), finite_float(v.strip(), name.strip(), where=where)] for name, v in pairs]
-        if n is not None and len(items) != n:
-            got = len(items)
-            raise ConfigError(f"{said} has {got} value{'s' if got != 1 else ''}, expected {n} "
-                              f"(comma-separated, e.g. {key}={','.join(['0'] * n)})", where=where)
-        return [finite_float(v, key, where=where) for v in items]
-    v = _value(raw, kind, f"{where} {key}", key)
-    return list(v) if isinstance(v, tuple) else v
-
-
 # -- parsing ---------------------------------------------------------------------------------------------
 def parse_cell(doc: Mapping[str, Any], source: str = "<inline>") -> CellSpec:
     """Build and check the :class:`CellSpec` of the workcell document ``doc``; ``source`` names it."""
-    top = {k: v for k, v in doc.items() if k not in _TABLES}
-    fields = _fields(top, _TOP, source, required=("name",))
-    for t in _TABLES:
+    top = {k: v for k, v in doc.items() if k not in TABLES}
+    fields = check_table(TopTable, top, source, required=("name",))
+    for t in TABLES:
         if t in doc and not isinstance(doc[t], dict):
             raise ConfigError(f"expected a table, got {doc[t]!r}", where=f"{source}: {t}")
     at = lambda entry: f"{source}: {entry}"  # noqa: E731
-    for alias, paths in doc.get("aliases", {}).items():
-        if not (isinstance(paths, str) or isinstance(paths, list) and paths
-                and all(isinstance(s, str) for s in paths)):
-            raise ConfigError(f"an alias stands for a dotted path or a list of them, got {paths!r}",
+    for alias, named in doc.get("aliases", {}).items():
+        if not (isinstance(named, str) or isinstance(named, list) and named
+                and all(isinstance(s, str) for s in named)):
+            raise ConfigError(f"an alias stands for a dotted path or a list of them, got {named!r}",
                               where=at(f"aliases.{alias}"))
-    worker = Worker(**_fields(doc.get("worker", {}), _WORKER, at("worker")))
+    worker = Worker(**check_table(WorkerTable, doc.get("worker", {}), at("worker")))
     furniture = tuple(_furniture(name, t, at(f"furniture.{name}"))
                       for name, t in doc.get("furniture", {}).items())
     parts = tuple(_part(name, t, at(f"parts.{name}")) for name, t in doc.get("parts", {}).items())
     targets = tuple(_target(name, t, at(f"targets.{name}")) for name, t in doc.get("targets", {}).items())
     robots = tuple(Robot(name=name, **{"model": default_robot(),
-                                       **_fields(t, _ROBOT, at(f"robots.{name}"), required=("base",))})
+                                       **check_table(RobotTable, t, at(f"robots.{name}"),
+                                                     required=("base",))})
                    for name, t in doc.get("robots", {}).items())
-    actions = tuple(Action(label=name, **_fields(t, _ACTION, at(f"actions.{name}"),
+    actions = tuple(Action(label=name, **check_table(ActionTable, t, at(f"actions.{name}"),
                                                  required=("kind", "part", "target")))
                     for name, t in doc.get("actions", {}).items())
-    views = tuple(View(name=name, **_fields(t, _VIEW, at(f"views.{name}"), required=("azimuth", "elevation")))
+    views = tuple(View(name=name, **check_table(ViewTable, t, at(f"views.{name}"),
+                                                required=("azimuth", "elevation")))
                   for name, t in doc.get("views", {}).items())
     if not views:
         views = (View("default", 215.0, -28.0),)
-    safety = SSMParams(**_fields(doc.get("safety", {}), _SAFETY, at("safety")))
+    safety = SSMParams(**check_table(SafetyTable, doc.get("safety", {}), at("safety")))
     safety.validate(at("safety"))
     spec = CellSpec(furniture=furniture, parts=parts, targets=targets, actions=actions, worker=worker,
                     robots=robots, views=views, source=source, safety=safety, **fields)
@@ -323,18 +193,18 @@ def _furniture(name: str, t: Any, where: str):
     if not isinstance(t, dict):
         raise ConfigError(f"expected a table, got {t!r}", where=where)
     kind = t.get("type", "table")
-    if kind not in _FURNITURE:
-        raise ConfigError(f"unknown furniture type {kind!r}; types: {', '.join(_FURNITURE)}", where=where)
+    if kind not in FURNITURE:
+        raise ConfigError(f"unknown furniture type {kind!r}; types: {', '.join(FURNITURE)}", where=where)
     required = {"table": ("center", "size", "height"), "shelf": ("center", "size", "height", "low_height",
                                                                  "top_depth"),
                 "box": ("center", "half")}[kind]
-    f = _fields(t, _FURNITURE[kind], where, required)
+    f = check_table(FURNITURE[kind], t, where, required)
     f.pop("type", None)
     return {"table": Table, "shelf": Shelf, "box": Box}[kind](name=name, **f)
 
 
 def _part(name: str, t: Any, where: str) -> Part:
-    f = _fields(t, _PART, where, required=("shape",))
+    f = check_table(PartTable, t, where, required=("shape",))
     if f["shape"] not in SHAPES:
         raise ConfigError(f"unknown shape {f['shape']!r}; shapes: {', '.join(SHAPES)}",
                           where=f"{where}.shape")
@@ -357,13 +227,13 @@ def _part(name: str, t: Any, where: str) -> Part:
     if not isinstance(raw_slots, list):
         raise ConfigError("expected an array of tables [[parts.NAME.slots]]", where=f"{where}.slots")
     for i, s in enumerate(raw_slots):
-        sf = _fields(s, _SLOT, f"{where}.slots[{i}]", required=("name", "at", "axis"))
+        sf = check_table(SlotTable, s, f"{where}.slots[{i}]", required=("name", "at", "axis"))
         slots.append(Slot(host=name, **sf))
     part = Part(name=name, **f)
     if part.shape == "socket_block":
         c = part.core_half
         for axis in part.sleeves:
-            unit = _AXES[axis]
+            unit = AXES[axis]
             slots.append(Slot(name, axis, tuple(c * u for u in unit), unit))
     names = [s.name for s in slots]
     if len(set(names)) != len(names):
@@ -424,7 +294,7 @@ def _stl_triangles(path: Path) -> int:
 
 
 def _target(name: str, t: Any, where: str) -> Target:
-    f = _fields(t, _TARGET, where)
+    f = check_table(TargetTable, t, where)
     if "pos" in f:
         if "xy" in f or "on" in f:
             raise ConfigError("a target has either pos or on/xy, not both", where=where)
