@@ -9,11 +9,13 @@ conversions and errors.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import typing
 from collections.abc import Iterable, Mapping
 from typing import Any
 
 from ergosim.errors import ConfigError
+from ergosim.schema.document import Tree, kinds, override, table
 from ergosim.schema.values import Invalid, finite_float, kind_of
 
 __all__ = ["parse_assignments", "apply_overrides", "field_names", "flat_values", "replace_flat",
@@ -86,25 +88,31 @@ def replace_flat(cfg: Any, changes: Mapping[str, Any]) -> Any:
     return dataclasses.replace(cfg, **top)
 
 
+@functools.cache
+def _config_tree(cls: type) -> Tree:
+    """The config dataclass ``cls`` as one table of its flat keys, each of the kind its annotation gives."""
+    return Tree(table(cls.__name__, **{k: kind_of(hint) for k, (_, hint) in _flat_fields(cls).items()}))
+
+
 def apply_overrides(cfg: Any, overrides: Mapping[str, Any], *, where: str = "--set") -> Any:
     """A copy of the frozen dataclass ``cfg`` with ``overrides`` (by flat key, :func:`field_names`) applied
-    and type-converted.
+    and type-converted, by the one override of every file format (:func:`ergosim.schema.document.override`)
+    over the table of its fields.
 
     Unknown keys raise :class:`ConfigError` listing the valid ones. If the dataclass defines
     ``validate()``, it runs on the result (range checks live with the config they guard).
     """
     if not overrides:
         return cfg
-    fields = _flat_fields(type(cfg))
-    changes: dict[str, Any] = {}
-    for key, raw in overrides.items():
-        if key not in fields:
-            raise ConfigError(f"unknown key {key!r}; valid keys: {', '.join(fields)}", where=where)
-        kind = kind_of(fields[key][1])
-        try:
-            changes[key] = kind.parse(raw, key) if isinstance(raw, str) else kind.check(raw, key)
-        except Invalid as err:
-            raise ConfigError(err.what, where=where) from None
+    tree = _config_tree(type(cfg))
+    valid = ", ".join(_flat_fields(type(cfg)))
+    doc = override(tree, {}, overrides, where,
+                   unknown=lambda key, _: f"unknown key {key!r}; valid keys: {valid}")
+    kinds_of = kinds(tree.table(doc))
+    try:  # a value set as it was given (from a file) is checked here; a parsed string again, to its tuple
+        changes = {key: kinds_of[key].check(value, key) for key, value in doc.items()}
+    except Invalid as err:
+        raise ConfigError(err.what, where=where) from None
     new = replace_flat(cfg, changes)
     validate = getattr(new, "validate", None)
     if callable(validate):

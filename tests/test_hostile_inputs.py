@@ -1047,3 +1047,16 @@ def test_a_mesh_of_199k_triangles_is_refused_at_once(tmp_path, capsys):
     _one_line_error(capsys, main(["render", str(scenario), "--out", str(tmp_path / "x.png")]),
                     "parts.base.file:", "has 199000 triangles, more than the limit of 50000")
     assert time.monotonic() - start < 30
+
+
+def test_modes_as_a_string_in_a_sweep_is_one_line(tmp_path, capsys):
+    sweep = tmp_path / "s.toml"
+    sweep.write_text('scenario = "kwear-validation"\nmodes = "hrc"\n[grid]\ntakt = [40.0, 45.0]\n')
+    _one_line_error(capsys, main(["sweep", str(sweep), "--dry-run"]),
+                    "s.toml: modes: expected a non-empty list of modes such as [\"hrc\"], got 'hrc'")
+
+
+def test_a_scenario_name_that_is_not_a_string_is_one_line(tmp_path, capsys):
+    scenario = _bracket(tmp_path, "bracket.toml", 'name = "bracket"', "name = 3")
+    _one_line_error(capsys, main(["render", str(scenario), "--out", str(tmp_path / "x.png")]),
+                    "bracket.toml: name: expected a non-empty string, got 3")

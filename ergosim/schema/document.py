@@ -22,8 +22,8 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, create_model
 from ergosim.errors import ConfigError, ErgosimError
 from ergosim.schema.values import Invalid, Kind
 
-__all__ = ["Table", "table", "Tree", "Named", "Listed", "Keyed", "check_table", "kinds", "settable", "paths",
-           "override"]
+__all__ = ["Table", "table", "Tree", "Named", "Listed", "Keyed", "check_keys", "check_table", "kinds",
+           "settable", "paths", "override"]
 
 
 class Table(BaseModel):
@@ -51,27 +51,35 @@ def settable(model: type[Table]) -> list[str]:
     return [name for name, f in model.model_fields.items() if not f.frozen]
 
 
-def check_table(model: type[Table], table: Any, where: str, required: tuple[str, ...] = (),
-                error: type[ErgosimError] = ConfigError) -> dict[str, Any]:
-    """The fields ``table`` gives (name -> checked value, in the table's order), validated by ``model``;
-    ``required`` fields must be given. A problem is one ``error``: at ``where`` for a table that is none,
-    an unknown or a missing key, at ``where.FIELD`` for a bad value (the first in the table's order)."""
-    if not isinstance(table, dict):
-        raise error(f"expected a table, got {table!r}", where=where)
-    unknown = sorted(set(table) - set(model.model_fields))
+def check_keys(model: type[Table], given: Any, where: str, required: tuple[str, ...] = (),
+               error: type[ErgosimError] = ConfigError) -> None:
+    """``given`` is a table with only keys of ``model`` and every ``required`` one; else one ``error`` at
+    ``where``."""
+    if not isinstance(given, dict):
+        raise error(f"expected a table, got {given!r}", where=where)
+    unknown = sorted(set(given) - set(model.model_fields))
     if unknown:
         raise error(f"unknown key {unknown[0]!r}; valid keys: {', '.join(model.model_fields)}", where=where)
-    missing = [k for k in required if k not in table]
+    missing = [k for k in required if k not in given]
     if missing:
         raise error(f"missing key {missing[0]!r}", where=where)
+
+
+def check_table(model: type[Table], given: Any, where: str, required: tuple[str, ...] = (),
+                error: type[ErgosimError] = ConfigError, top: bool = False) -> dict[str, Any]:
+    """The fields the table ``given`` gives (name -> checked value, in its order), validated by ``model``;
+    ``required`` fields must be given. A problem is one ``error``: at ``where`` for a table that is none,
+    an unknown or a missing key, at ``where.FIELD`` for a bad value (the first in the table's order;
+    ``where: FIELD`` for the ``top`` table of a file, ``where`` being the file)."""
+    check_keys(model, given, where, required, error)
     try:
-        checked = model.model_validate(table)
+        checked = model.model_validate(given)
     except ValidationError as err:
-        order = list(table)
+        order = list(given)
         first = min(err.errors(), key=lambda e: order.index(e["loc"][0]) if e["loc"] else -1)
         what = first["ctx"]["what"] if first["type"] == "ergosim" else first["msg"]
-        raise error(what, where=".".join([where, *map(str, first["loc"][:1])])) from None
-    return {k: getattr(checked, k) for k in table}
+        raise error(what, where=(": " if top else ".").join([where, *map(str, first["loc"][:1])])) from None
+    return {k: getattr(checked, k) for k in given}
 
 
 @dataclasses.dataclass(frozen=True)
