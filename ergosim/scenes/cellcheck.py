@@ -16,11 +16,15 @@ from ergosim.quat import from_rpy, to_mat
 from ergosim.robot.robot_model import robot_names
 from ergosim.scenes.cellspec import ACTION_KINDS, Box, CellSpec, Part, Shelf
 
-__all__ = ["check_cell", "TURN_TIME_MAX"]
+__all__ = ["check_cell", "TURN_TIME_MAX", "VIEW_DISTANCE_MAX"]
 
 TURN_TIME_MAX = 600.0
 """Longest hold-and-turn of a fastening [s] (assumed: ten minutes is no longer one action; the worker's motion
 holds a pose per mocap frame of it)."""
+
+
+VIEW_DISTANCE_MAX = 100.0
+"""Farthest camera of a view [m] (assumed: a workcell is a few metres across; farther, it is a dot)."""
 
 
 def check_cell(spec: CellSpec, at) -> None:
@@ -88,6 +92,11 @@ def check_cell(spec: CellSpec, at) -> None:
     for p in spec.parts:
         _check_part_pose(spec, p, surfaces, at(f"parts.{p.name}"))
     _check_footprints(spec, at)
+    for v in spec.views:
+        need(-90.0 <= v.elevation <= 90.0, f"views.{v.name}.elevation",
+             f"elevation must be in [-90, 90] deg, got {v.elevation:g}")
+        need(0.0 < v.distance <= VIEW_DISTANCE_MAX, f"views.{v.name}.distance",
+             f"distance must be in (0, {VIEW_DISTANCE_MAX:g}] m, got {v.distance:g}")
     for t in spec.targets:
         entry = f"targets.{t.name}"
         if t.kind == "place":
