@@ -15,7 +15,16 @@ __all__ = [
     "ModelError",
     "RecordingError",
     "RenderError",
+    "shown",
 ]
+
+
+def shown(raw: object) -> str:
+    """``repr(raw)`` for a one-line message; an integer of hundreds of digits (TOML allows any) is given by
+    its size."""
+    if isinstance(raw, int) and not isinstance(raw, bool) and abs(raw) >= 10**30:
+        return f"an integer of {len(str(abs(raw)))} digits"
+    return repr(raw)
 
 
 class ErgosimError(Exception):

@@ -19,9 +19,9 @@ PACKAGE = ROOT / "ergosim"
 
 # The layers, lowest first: a module may import its own layer and the layers below, never one above.
 LAYERS: tuple[tuple[str, ...], ...] = (
-    # 0 foundation: errors, file writing, registries, parsing helpers, logging
-    ("__init__", "errors", "atomic", "registry", "plugins", "logs", "overrides", "posture", "progress",
-     "exports", "quat", "machine", "held_signals", "g9_csv", "blas_kernel"),
+    # 0 foundation: errors, file writing, registries, the schema of the file formats, logging
+    ("__init__", "errors", "atomic", "registry", "plugins", "logs", "overrides", "schema", "posture",
+     "progress", "exports", "quat", "machine", "held_signals", "g9_csv", "blas_kernel"),
     # 1 the models: body, risk, robot, worker motion, task planning, workcells
     ("human", "ergonomics", "robot", "worker", "planner", "scenes"),
     # 2 the simulation: loop, sessions, allocators, tracks
@@ -43,8 +43,6 @@ LAYER_ALLOWANCES: dict[tuple[str, str], str] = {}
 # module -> (its line count cap, why it is one concept)
 MODULE_LINES = 400
 MODULE_ALLOWANCES = {
-    "ergosim/scenes/cellfile.py": (559, "one file format: a workcell file's keys, parsed and checked (with "
-                                   "issue 27's bounds)"),
     "ergosim/sweep/design.py": (503, "one file format: a sweep file's axes, designs and cells"),
 }
 # import circles allowed for now: the modules of each, and why

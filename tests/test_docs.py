@@ -14,7 +14,7 @@ from ergosim import api
 from ergosim.experiment import scenario as scenariofile
 from ergosim.experiment.protocol import PROTOCOL_KEYS
 from ergosim.human.anthropometry import SEGMENT_SCALES
-from ergosim.scenes import cellfile
+from ergosim.scenes import cell_schema
 from ergosim.scenes.action_kinds import ACTION_KINDS
 from ergosim.scenes.cellspec import SHAPES
 
@@ -23,17 +23,17 @@ BUNDLED_MODES = ("hrc", "rula", "h-only", "r-only")
 FORMAT = (ROOT / "docs" / "workcell_format.md").read_text()
 
 SCHEMAS = {
-    "workcell top level": cellfile._TOP,
-    "workcell tables": dict.fromkeys(cellfile._TABLES),
-    "[worker]": cellfile._WORKER,
-    "[robots.NAME]": cellfile._ROBOT,
-    **{f"[furniture.NAME] type={t}": keys for t, keys in cellfile._FURNITURE.items()},
-    "[parts.NAME]": cellfile._PART,
-    "[[parts.NAME.slots]]": cellfile._SLOT,
-    "[targets.NAME]": cellfile._TARGET,
-    "[actions.LABEL]": cellfile._ACTION,
-    "[views.NAME]": cellfile._VIEW,
-    "[safety]": cellfile._SAFETY,
+    "workcell top level": cell_schema.TopTable.model_fields,
+    "workcell tables": dict.fromkeys(cell_schema.TABLES),
+    "[worker]": cell_schema.WorkerTable.model_fields,
+    "[robots.NAME]": cell_schema.RobotTable.model_fields,
+    **{f"[furniture.NAME] type={t}": m.model_fields for t, m in cell_schema.FURNITURE.items()},
+    "[parts.NAME]": cell_schema.PartTable.model_fields,
+    "[[parts.NAME.slots]]": cell_schema.SlotTable.model_fields,
+    "[targets.NAME]": cell_schema.TargetTable.model_fields,
+    "[actions.LABEL]": cell_schema.ActionTable.model_fields,
+    "[views.NAME]": cell_schema.ViewTable.model_fields,
+    "[safety]": cell_schema.SafetyTable.model_fields,
     "scenario top level": dict.fromkeys(scenariofile._TOP),
     "[protocol]": dict.fromkeys(PROTOCOL_KEYS),
 }
@@ -46,7 +46,7 @@ def test_every_key_of_the_files_is_documented(table):
 
 
 def test_every_value_the_readers_name_is_documented():
-    names = [*ACTION_KINDS, *SHAPES, *cellfile._FURNITURE, *SEGMENT_SCALES, *BUNDLED_MODES, "fast", "paper"]
+    names = [*ACTION_KINDS, *SHAPES, *cell_schema.FURNITURE, *SEGMENT_SCALES, *BUNDLED_MODES, "fast", "paper"]
     missing = [n for n in names if f"`{n}`" not in FORMAT]
     assert not missing, missing
 

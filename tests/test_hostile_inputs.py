@@ -935,3 +935,132 @@ def test_not_completed_says_how_far_from_the_target():
     assert text.startswith("housing ended ")
     assert "mm from its target, outside the place tolerance of 30 mm" in text
     assert cell.why_not_done(cell.actions["g2"]).startswith("bushing is not seated: ")
+
+
+# -- issue 37: files whose mistakes were accepted or ended in a traceback ------------------------------------
+BRACKET = ROOT / "examples" / "own_workcell"
+
+
+def _bracket(tmp_path: Path, name: str, old: str, new: str) -> Path:
+    """A copy of the bracket scenario, ``old`` replaced by ``new`` in its file ``name``."""
+    for f in BRACKET.glob("*.toml"):
+        (tmp_path / f.name).write_text(f.read_text())
+    text = (tmp_path / name).read_text()
+    assert old in text, old
+    (tmp_path / name).write_text(text.replace(old, new))
+    return tmp_path / "bracket.toml"
+
+
+_OPERATIONS_ONE_ACTION = """name = "t"
+parts = ["a", "b", "c"]
+[agents.human]
+kind = "human"
+[[operations]]
+name = "o1"
+action = "x"
+joins = [["a"], ["b"]]
+[[operations]]
+name = "o2"
+action = "x"
+joins = [["a", "b"], ["c"]]
+"""
+
+
+def test_two_operations_of_one_action_are_refused(tmp_path, capsys):
+    (tmp_path / "t.toml").write_text(_OPERATIONS_ONE_ACTION)
+    _one_line_error(capsys, main(["plan", str(tmp_path / "t.toml")]),
+                    "t.toml: operations[1] 'o2': action 'x' is also the action of operations[0] 'o1'")
+
+
+def test_two_liaisons_of_one_action_are_refused(tmp_path, capsys):
+    scenario = _bracket(tmp_path, "bracket_task.toml", 'action = "b5"', 'action = "b4"')
+    _one_line_error(capsys, main(["plan", str(scenario.parent / "bracket_task.toml")]),
+                    "bracket_task.toml: liaisons[4]: action 'b4' is also the action of liaisons[3]")
+
+
+_HUGE = "1" + "0" * 400  # a valid TOML integer, beyond the largest float
+
+
+@pytest.mark.parametrize(("name", "old", "command", "needle"), [
+    ("bracket_task.toml", "cost = 2.5", "plan", "bracket_task.toml: agents.robot: cost must be <= 1e+100"),
+    ("bracket_cell.toml", "mass = 0.2", "render", "bracket_cell.toml: parts.base.mass: mass=an integer of "
+                                                  "401 digits is not a finite number"),
+    ("bracket.toml", "takt = 60.0", "run", "bracket.toml: protocol: takt=an integer of 401 digits is not a "
+                                           "finite number"),
+])
+def test_an_integer_of_400_digits_is_one_line(tmp_path, capsys, name, old, command, needle):
+    scenario = _bracket(tmp_path, name, old, old.split("=")[0] + "= " + _HUGE)
+    args = {"plan": ["plan", str(tmp_path / name)], "render": ["render", str(scenario), "--out",
+                                                               str(tmp_path / "x.png")],
+            "run": ["run", str(scenario), "--quiet", "--out", str(tmp_path / "o")]}[command]
+    _one_line_error(capsys, main(args), needle)
+
+
+@pytest.mark.parametrize(("name", "old", "new", "needle"), [
+    ("bracket_cell.toml", 'hand = "right"', 'hand = "right"\nhuman_scale = ["upper_arm", 1.1]',
+     "worker.human_scale: expected [[segment, factor], ...]"),
+    ("bracket_cell.toml", 'hand = "right"', 'hand = "right"\nhuman_scale = [["upper_arm", 1.1, 2.0]]',
+     "worker.human_scale: expected [[segment, factor], ...]"),
+    ("bracket_cell.toml", 'base_xy = "parts.base.xy"', "base_xy = 3",
+     "aliases.base_xy: an alias stands for a dotted path or a list of them, got 3"),
+    ("bracket_cell.toml", "at = [-0.015, 0.0, 0.0]", "at = [0.015, 0.0, 0.0]",
+     "parts.base.slots: slots 'pin_hole' and 'screw_hole' overlap: their seats are 0.0 mm apart"),
+    ("bracket_cell.toml", "xy = [0.60, 0.30]", "xy = [0.50, 0.28]",
+     "parts.screw.xy: parts 'pin' and 'screw' are at the same place on the bench"),
+    ("bracket_cell.toml", 'target = "base.screw_hole"', 'target = "base.pin_hole"',
+     "actions: a slot takes one part, but two actions seat a part in ['base.pin_hole']"),
+    ("bracket_cell.toml", '[views.overview]', '[actions.b6]\nkind = "remove"\npart = "base"\n'
+                                             'target = "tray"\n\n[views.overview]',
+     "actions.b6: actions 'b4' and 'b6' are one physical action (remove base to tray) under two labels"),
+    ("bracket_cell.toml", "azimuth = 215.0", "azimuth = nan",
+     "views.overview.azimuth: azimuth=nan is not a finite number"),
+    ("bracket_cell.toml", "lookat = [0.5, 0.0, 1.0]", "lookat = [0.5, nan, 1.0]",
+     "views.overview.lookat: lookat=nan is not a finite number"),
+    ("bracket_cell.toml", "distance = 2.0", "distance = 0.0",
+     "views.overview.distance: distance must be in (0, 100] m, got 0"),
+    ("bracket_cell.toml", "elevation = -28.0", "elevation = -1e300",
+     "views.overview.elevation: elevation must be in [-90, 90] deg, got -1e+300"),
+    ("bracket_cell.toml", "mass = 0.2", "mass = 1e30",
+     "parts.base.mass: a mass of 1e+30 kg is above the limit of 100 kg (assumed: 4 x the NIOSH"),
+    ("bracket_cell.toml", "density = 7850.0", "density = 1e9",
+     "parts.pin.density: density 1e+09 kg/m^3 is above osmium's 22590"),
+    ("bracket.toml", 'modes = ["hrc", "h-only", "r-only"]', 'modes = "hrc"',
+     'bracket.toml: protocol.modes: modes must be a list such as modes = ["hrc"], got \'hrc\''),
+])
+def test_a_mistake_in_a_cell_or_scenario_file_is_one_line(tmp_path, capsys, name, old, new, needle):
+    scenario = _bracket(tmp_path, name, old, new)
+    _one_line_error(capsys, main(["render", str(scenario), "--out", str(tmp_path / "x.png")]), needle)
+    assert not (tmp_path / "x.png").exists()
+
+
+def _binary_stl(path: Path, triangles: int) -> None:
+    """A binary STL of ``triangles`` copies of one triangle (an 80-byte header, a count, 50 bytes each)."""
+    facet = np.zeros(12, "<f4")
+    facet[[5, 9, 10]] = 0.01  # normal 0, vertices (0,0,0), (0.01,0,0)... enough for a count
+    record = facet.tobytes() + b"\0\0"
+    path.write_bytes(b"\0" * 80 + triangles.to_bytes(4, "little") + record * triangles)
+
+
+def test_a_mesh_of_199k_triangles_is_refused_at_once(tmp_path, capsys):
+    """Under MuJoCo's cap of 200,000, it kept the build busy past 240 s without a word."""
+    stl = tmp_path / "big.stl"
+    _binary_stl(stl, 199_000)
+    scenario = _bracket(tmp_path, "bracket_cell.toml", 'shape = "box"\nsize = [0.06, 0.06, 0.04]',
+                        f'shape = "mesh"\nfile = "{stl}"\nsize = [0.06, 0.06, 0.04]')
+    start = time.monotonic()
+    _one_line_error(capsys, main(["render", str(scenario), "--out", str(tmp_path / "x.png")]),
+                    "parts.base.file:", "has 199000 triangles, more than the limit of 50000")
+    assert time.monotonic() - start < 30
+
+
+def test_modes_as_a_string_in_a_sweep_is_one_line(tmp_path, capsys):
+    sweep = tmp_path / "s.toml"
+    sweep.write_text('scenario = "kwear-validation"\nmodes = "hrc"\n[grid]\ntakt = [40.0, 45.0]\n')
+    _one_line_error(capsys, main(["sweep", str(sweep), "--dry-run"]),
+                    "s.toml: modes: expected a non-empty list of modes such as [\"hrc\"], got 'hrc'")
+
+
+def test_a_scenario_name_that_is_not_a_string_is_one_line(tmp_path, capsys):
+    scenario = _bracket(tmp_path, "bracket.toml", 'name = "bracket"', "name = 3")
+    _one_line_error(capsys, main(["render", str(scenario), "--out", str(tmp_path / "x.png")]),
+                    "bracket.toml: name: expected a non-empty string, got 3")

@@ -131,8 +131,9 @@ def test_workcell_overrides_are_parsed_once_and_win_over_a_subjects_body(monkeyp
     workcell; a subject's body (typed fields) goes on top, except where an override set the same field."""
     sc = load_scenario("kwear-validation", {"scene.l_xy": "0.40,-0.12", "scene.worker.stature": "1.70"})
     coerced = []
-    real = cellfile._coerce
-    monkeypatch.setattr(cellfile, "_coerce", lambda *a: coerced.append(a) or real(*a))
+    real = cellfile.override
+    monkeypatch.setattr(cellfile, "override", lambda tree, doc, values, *a, **kw: coerced.extend(
+        v for v in values.values() if isinstance(v, str)) or real(tree, doc, values, *a, **kw))
     for stature in (1.6, 1.8):
         cell = sc.cell(**{"worker.stature": stature, "worker.human_scale": (("upper_arm", 1.05),)})
         assert cell.part("L").xy == (0.40, -0.12) and cell.worker.stature == 1.70

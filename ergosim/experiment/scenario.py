@@ -19,21 +19,28 @@ from typing import Any
 
 from ergosim.errors import ConfigError, TaskFileError
 from ergosim.experiment.protocol import ScenarioConfig
-from ergosim.overrides import apply_overrides
+from ergosim.overrides import apply_overrides, list_fields
 from ergosim.planner import AndOrGraph, bundled_task_source, bundled_task_text, task_from_dict
 from ergosim.planner.bundled import BUNDLED_TASKS
 from ergosim.planner.task_overrides import apply_task_overrides
 from ergosim.registry import Registry
 from ergosim.scenes import CellSpec, apply_cell_overrides, cell_document, parse_cell
 from ergosim.scenes.cellfile import override_paths, read_toml
+from ergosim.schema.document import check_table, table
+from ergosim.schema.values import RAW, TEXT, Text
 
 __all__ = ["Scenario", "SCENARIOS", "register_scenario", "scenario_names", "scenario_path", "scenario_info",
            "load_scenario", "scenario_config", "split_overrides"]
 
 log = logging.getLogger(__name__)
 
-_TOP = {"name", "description", "task", "workcell", "protocol"}
+ScenarioTable = table("ScenarioTable", name=TEXT, description=Text(empty=True), task=RAW, workcell=RAW,
+                      protocol=RAW)
+"""The top level of a scenario file (docs/workcell_format.md); ``[protocol]`` is read by the protocol's
+config dataclass (:func:`~ergosim.overrides.apply_overrides`), the task and the workcell by their readers."""
+_TOP = tuple(ScenarioTable.model_fields)
 _LABEL_FIELDS = ("scene", "task")
+_LIST_FIELDS = list_fields(ScenarioConfig)
 
 SCENARIOS: Registry[Path] = Registry("scenario", where="ergosim run", hint="or the path of a scenario file")
 """The scenario files by name."""
@@ -230,13 +237,8 @@ def load_scenario(name_or_path: str | os.PathLike[str],
     doc = read_toml(path, what="scenario file")
     bundled = str(name_or_path) in SCENARIOS
     source = f"ergosim/data/scenarios/{path.name}" if bundled else str(path)
-    unknown = sorted(set(doc) - _TOP)
-    if unknown:
-        raise ConfigError(f"unknown key {unknown[0]!r}; valid keys: {', '.join(sorted(_TOP))}", where=source)
-    for key in ("task", "workcell"):
-        if key not in doc:
-            raise ConfigError(f"missing key {key!r}", where=source)
-    name = str(doc.get("name", path.stem))
+    top = check_table(ScenarioTable, doc, source, required=("task", "workcell"), top=True)
+    name = top.get("name", path.stem)
     task_doc, task_source, task_label = _resolve_task(doc["task"], path.parent, source)
     cell_doc, cell_source = _resolve_cell(doc["workcell"], path.parent, source)
     cell = parse_cell(cell_doc, source=cell_source)
@@ -250,6 +252,10 @@ def load_scenario(name_or_path: str | os.PathLike[str],
     missing = [k for k in ("subjects", "repetitions", "modes", "robot_cost") if k not in protocol]
     if missing:
         raise ConfigError(f"missing key {missing[0]!r}", where=f"{source}: protocol")
+    for key, value in protocol.items():  # a --set string is a comma list; in a file, a list is a list
+        if key in _LIST_FIELDS and not isinstance(value, list):
+            raise ConfigError(f"{key} must be a list such as {key} = [\"hrc\"], got {value!r}",
+                              where=f"{source}: protocol.{key}")
     base = ScenarioConfig(scene=cell.name, task=task_label)
     cfg = apply_overrides(base, {k: (tuple(v) if isinstance(v, list) else v) for k, v in protocol.items()},
                           where=f"{source}: protocol")

@@ -6,6 +6,8 @@ import math
 import re
 from dataclasses import dataclass
 
+from ergosim.errors import shown
+
 __all__ = ["Agent", "Operation", "AGENT_KINDS", "COST_MAX", "check_name", "check_cost"]
 
 AGENT_KINDS = ("human", "robot")
@@ -30,7 +32,10 @@ def check_name(value: object, what: str) -> str | None:
 def check_cost(value: object, what: str) -> str | None:
     """Return a problem description if ``value`` is not a finite, non-negative number, else None."""
     if isinstance(value, bool) or not isinstance(value, (int, float)):
-        return f"{what} must be a number, got {value!r}"
+        return f"{what} must be a number, got {shown(value)}"
+    if isinstance(value, int) and value > COST_MAX:  # before isfinite: 10**400 is no float
+        return (f"{what} must be <= {COST_MAX:g} (a plan sums its costs, which must stay finite), got "
+                f"{shown(value)}")
     if not math.isfinite(value) or value < 0:
         return f"{what} must be finite and >= 0, got {value!r}"
     if value > COST_MAX:

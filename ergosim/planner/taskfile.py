@@ -18,14 +18,11 @@ from ergosim.planner.agents import Agent, Operation, check_cost, check_name
 from ergosim.planner.graph import AndOrGraph
 from ergosim.planner.liaisons import Liaison, generate_operations, liaison_groups
 from ergosim.planner.limits import check_operation_count, check_part_count
+from ergosim.planner.task_schema import AgentTable, LiaisonTable, OperationTable, TopTable
 from ergosim.planner.validation import format_parts
+from ergosim.schema.document import check_keys
 
 __all__ = ["load_task", "parse_task", "task_from_dict", "MAX_TASK_BYTES"]
-
-_TOP_KEYS = {"name", "description", "parts", "agents", "operations", "liaisons", "precedence"}
-_OP_KEYS = {"name", "action", "joins", "father", "cost", "agents"}
-_LIAISON_KEYS = {"parts", "action", "cost", "agents"}
-
 
 MAX_TASK_BYTES = 64 << 20
 """Largest task file read [bytes]; a task at the operation limit (MAX_OPERATIONS) is far smaller."""
@@ -93,9 +90,7 @@ class _Builder:
 
     def build(self) -> AndOrGraph:
         doc = self.doc
-        unknown = sorted(set(doc) - _TOP_KEYS)
-        if unknown:
-            raise _fail(f"unknown key {unknown[0]!r}; expected one of {sorted(_TOP_KEYS)}", self.source)
+        check_keys(TopTable, doc, self.source, error=TaskFileError)
         name = doc.get("name", Path(self.source).stem)
         if not isinstance(name, str) or not name:
             raise _fail(f"name must be a non-empty string, got {name!r}", self.at("name"))
@@ -103,6 +98,7 @@ class _Builder:
         self.agents = self.read_agents()
         ops, origins = self.read_operations()
         liaisons = self.read_liaisons()
+        self.check_actions_unique(ops, liaisons)
         precedence = self.read_precedence(liaisons)
         if not ops and not liaisons and len(self.parts) > 1:
             raise _fail("a task needs [[operations]] or [[liaisons]]", self.source)
@@ -166,11 +162,7 @@ class _Builder:
         agents = []
         for name, spec in table.items():
             at = self.at(f"agents.{name}")
-            if not isinstance(spec, dict):
-                raise _fail(f"expected a table with kind and optional cost, got {spec!r}", at)
-            extra = sorted(set(spec) - {"kind", "cost"})
-            if extra:
-                raise _fail(f"unknown key {extra[0]!r}; expected kind, cost", at)
+            check_keys(AgentTable, spec, at, error=TaskFileError)
             cost = spec.get("cost", 1.0)
             problem = check_name(name, "an agent name") or check_cost(cost, "cost")
             if problem:
@@ -229,9 +221,7 @@ class _Builder:
         for i, entry in enumerate(entries):
             name = entry.get("name")
             at = self.at(f"operations[{i}]" + (f" {name!r}" if isinstance(name, str) else ""))
-            extra = sorted(set(entry) - _OP_KEYS)
-            if extra:
-                raise _fail(f"unknown key {extra[0]!r}; expected one of {sorted(_OP_KEYS)}", at)
+            check_keys(OperationTable, entry, at, error=TaskFileError)
             if not isinstance(name, str) or not name:
                 raise _fail(f"name must be a non-empty string, got {name!r}", at)
             if name in origins:
@@ -252,9 +242,7 @@ class _Builder:
         liaisons, pairs = [], {}
         for i, entry in enumerate(self.entries("liaisons")):
             at = self.at(f"liaisons[{i}]")
-            extra = sorted(set(entry) - _LIAISON_KEYS)
-            if extra:
-                raise _fail(f"unknown key {extra[0]!r}; expected one of {sorted(_LIAISON_KEYS)}", at)
+            check_keys(LiaisonTable, entry, at, error=TaskFileError)
             parts = self.read_part_list(entry.get("parts"), "parts", at)
             if len(parts) != 2 or parts[0] == parts[1]:
                 raise _fail(f"a liaison connects exactly two different parts, got {list(entry['parts'])}", at)
@@ -269,6 +257,18 @@ class _Builder:
             agents, costs = self.read_agent_costs(entry, at)
             liaisons.append(Liaison(parts[0], parts[1], action, agents, costs))
         return liaisons
+
+    def check_actions_unique(self, ops: list[Operation], liaisons: list[Liaison]) -> None:
+        """One label = one physical action: no two hand-written operations or liaisons share an action (the
+        operations generated from one liaison do, as they are its one join made in different orders)."""
+        first: dict[str, str] = {}
+        entries = [(f"operations[{i}] {op.name!r}", op.action) for i, op in enumerate(ops)]
+        entries += [(f"liaisons[{i}]", lia.action) for i, lia in enumerate(liaisons)]
+        for at, action in entries:
+            if action in first:
+                raise _fail(f"action {action!r} is also the action of {first[action]}: one label is one "
+                            "physical action; give each its own label", self.at(at))
+            first[action] = at
 
     def read_precedence(self, liaisons: list[Liaison]) -> list[tuple[str, str]]:
         known = {lia.action for lia in liaisons}

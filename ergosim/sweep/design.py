@@ -55,6 +55,8 @@ import numpy as np
 from ergosim.errors import ConfigError, ErgosimError
 from ergosim.experiment.scenario import Scenario, load_scenario
 from ergosim.scenes.cellfile import read_toml
+from ergosim.schema.document import check_table, table
+from ergosim.schema.values import RAW
 from ergosim.sweep.file_values import (
     MAX_UNITS,
     check_key,
@@ -79,8 +81,9 @@ MAX_CELLS = 10_000
 """Largest number of cells in a sweep (assumed: a design larger than this is a typo in a range)."""
 SAMPLE_METHODS = ("random", "lhs")
 
-_TOP = ("name", "description", "scenario", "subjects", "seeds", "modes", "metrics", "set", "grid", "zip",
-        "sample")
+SweepTable = table("SweepTable", **dict.fromkeys(("name", "description", "scenario", "subjects", "seeds",
+                                                 "modes", "metrics", "set", "grid", "zip", "sample"), RAW))
+"""The top level of a sweep file (docs/sweeps.md); each key is read by its own reader below."""
 _SAMPLE_KEYS = ("method", "n", "seed")
 _ZIP_KEYS = ("name", "levels")
 
@@ -184,9 +187,7 @@ def parse_sweep(doc: Mapping[str, Any], *, source: str = "<sweep>", base_dir: Pa
                 default_name: str = "sweep") -> Sweep:
     """Check a sweep document (the parsed TOML) and resolve every cell against its base scenario."""
     at = lambda entry: f"{source}: {entry}"  # noqa: E731
-    unknown = sorted(set(doc) - set(_TOP))
-    if unknown:
-        raise ConfigError(f"unknown key {unknown[0]!r}; valid keys: {', '.join(_TOP)}", where=source)
+    check_table(SweepTable, doc, source, top=True)
     if "scenario" not in doc:
         raise ConfigError("missing key 'scenario' (a bundled scenario or a scenario file)", where=source)
     name = read_string(doc.get("name", default_name), at("name"))

@@ -161,10 +161,8 @@ def _indices(value: Any, what: str, where: str) -> tuple[int, ...]:
 def read_modes(value: Any, where: str) -> tuple[str, ...]:
     from ergosim.twin.modes import mode_names  # noqa: PLC0415
 
-    if isinstance(value, str):
-        value = [value]
     if not isinstance(value, list) or not value or not all(isinstance(m, str) for m in value):
-        raise ConfigError(f"expected a non-empty list of modes, got {value!r}", where=where)
+        raise ConfigError(f"expected a non-empty list of modes such as [\"hrc\"], got {value!r}", where=where)
     for m in value:
         if m not in mode_names():
             raise ConfigError(f"unknown mode {m!r}; valid modes: {', '.join(mode_names())}", where=where)
