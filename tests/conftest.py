@@ -40,6 +40,7 @@ RUN_FIXTURES = frozenset({
     "recorded",  # test_video.py
     "reba_run",  # test_reba_run.py
     "bracket",  # test_action_kinds.py
+    "gearbox_run",  # test_report.py
 })
 """Fixtures that run a scenario (seconds each): a test that reads one is ``slow``, so the quick tier
 (``-m "not slow"``) never waits for a run."""

@@ -1,4 +1,5 @@
-"""The CSV files of a run: allocations.csv, failures.csv, ticks.csv, subjects.csv and kwear_actions.csv.
+"""The CSV files of a run: allocations.csv, decisions.csv, failures.csv, ticks.csv, subjects.csv and
+kwear_actions.csv.
 
 Every file is written atomically (:mod:`ergosim.atomic`), so an interrupted run leaves complete files.
 Floats that a figure is computed from are written exactly (``repr``).
@@ -17,15 +18,21 @@ from ergosim.atomic import atomic_open
 from ergosim.g9_csv import g9_csv
 from ergosim.posture import KWEAR_JOINTS
 from ergosim.twin.records import TICK_COLUMNS, Allocation, Failure, SubjectRun
+from ergosim.viz.reason import reason_text
 
-__all__ = ["write_allocations", "write_failures", "write_ticks", "write_subjects", "write_action_traces",
-           "ALLOCATION_COLUMNS", "FAILURE_COLUMNS", "SUBJECT_COLUMNS", "ACTION_TRACE_COLUMNS"]
+__all__ = ["write_allocations", "write_decisions", "write_failures", "write_ticks", "write_subjects",
+           "write_action_traces", "ALLOCATION_COLUMNS", "DECISION_COLUMNS", "FAILURE_COLUMNS",
+           "SUBJECT_COLUMNS", "ACTION_TRACE_COLUMNS"]
 
 ALLOCATION_COLUMNS = (
     "subject", "mode", "repetition", "order", "action", "agent",
     "human_cost", "robot_cost", "t_start", "t_end", "status", "attempt", "forced", "allocatable",
 )
 """Columns of ``allocations.csv``: one row per attempt (see :class:`~ergosim.twin.records.Allocation`)."""
+
+DECISION_COLUMNS = ("time", "subject", "mode", "repetition", "action", "agent", "reason")
+"""Columns of ``decisions.csv``: one row per allocation decision, ``reason`` the sentence of
+:func:`~ergosim.viz.reason.reason_text` (what the recording and the video show)."""
 
 FAILURE_COLUMNS = ("time", "subject", "mode", "repetition", "action", "agent", "status", "message")
 """Columns of ``failures.csv``: one row per failed attempt or abandoned repetition."""
@@ -57,6 +64,17 @@ def write_allocations(path: Path, allocations: Sequence[Allocation]) -> None:
                 f"{row['t_start']:.4f}", f"{row['t_end']:.4f}",
                 row["status"], row["attempt"], row["forced"], int(row["allocatable"]),
             ])
+
+
+def write_decisions(path: Path, runs: Sequence[SubjectRun]) -> None:
+    """decisions.csv: :data:`DECISION_COLUMNS`, every decision of each run in the order given, atomically."""
+    with atomic_open(path, "w") as f:
+        writer = csv.writer(f, lineterminator="\n")
+        writer.writerow(DECISION_COLUMNS)
+        for run in runs:
+            for d in run.decisions:
+                writer.writerow([f"{d.time:.4f}", run.subject, run.mode, d.repetition, d.action, d.agent,
+                                 reason_text(d)])
 
 
 def write_failures(path: Path, failures: Sequence[Failure]) -> None:

@@ -9,9 +9,56 @@ from __future__ import annotations
 
 from ergosim.twin.modes import mode_or_default
 
-__all__ = ["summary_text", "warning_lines"]
+__all__ = ["summary_text", "warning_lines", "overrun_words", "wilcoxon_lines", "SHARE_WORDS"]
 
 _LEGEND = "H worker, R robot, * forced, ! after a failed attempt, - not done, x no agent left"
+
+SHARE_WORDS = (
+    "robot share: of the completed actions that the task lets either agent do, the fraction a robot "
+    "completed (a forced robot action counts, a failed attempt does not).",
+    "of choices: of the decisions at which the allocator could give the action to either agent, the fraction "
+    "it gave a robot (failed and refused attempts count). An action the robot cannot do in this cell (its "
+    "reach, gripper or payload), or one that earlier failures left to one agent, is no choice: it counts in "
+    "robot share but not here, so the two differ most where the robot is refused much of the task.",
+)
+"""What the two robot shares of the summary mean (printed under the table, and in report.html)."""
+
+
+def overrun_words(summary: dict, config: dict) -> list[str]:
+    """The takt and each mode's overruns in words: what the takt is, the schedule it sets, and how long the
+    repetitions took against it."""
+    takt, reps = config.get("takt"), config.get("repetitions")
+    if not takt:
+        return []
+    lines = [f"takt {takt:g} s: the time the line gives one repetition; the schedule is {reps} × {takt:g} s "
+             f"= {reps * takt:g} s per subject and mode (the window of the KWear integral), and a repetition "
+             "that takes longer than the takt is an overrun."]
+    modes = summary.get("modes", {})
+    for mode in [m for m in config.get("modes", modes) if m in modes]:
+        m = modes[mode]
+        took = [r["duration_s"] for r in m.get("repetitions", []) if r.get("duration_s") is not None]
+        over = m.get("takt_overruns", 0)
+        if not took:
+            lines.append(f"{mode}: {over} overrun(s)")
+            continue
+        span = (f"{min(took):.1f} s" if len(took) == 1 else
+                f"{min(took):.1f}-{max(took):.1f} s (mean {sum(took) / len(took):.1f} s)")
+        verdict = ("so this cell does not hold the takt in this mode" if over == len(took)
+                   else "none over the takt" if not over else "")
+        lines.append(f"{mode}: {over} of {len(took)} repetition(s) over the {takt:g} s takt; they took {span}"
+                     + (f", {verdict}" if verdict else ""))
+    return lines
+
+
+def wilcoxon_lines(summary: dict) -> list[str]:
+    """The paired tests of summary.json, a line each."""
+    lines = []
+    tests = summary.get("wilcoxon_by_metric") or {"kwear_integral": summary.get("wilcoxon") or {}}
+    for w in tests.values():
+        if w.get("p") is not None:
+            lines.append(f"Wilcoxon signed-rank ({w['metric']}, hrc vs h-only, n={w['n']}): "
+                         f"W = {w['statistic']:g}, p = {w['p']:.3g}")
+    return lines
 
 
 def _share(m: dict, share: str, robot: str, total: str) -> str:
@@ -91,11 +138,7 @@ def summary_text(summary: dict, cfg) -> str:
         rula = summary.get("rula_g_by_action", {})
         lines.append("G(a_k), RULA grand / REBA score (median over subjects): " + "  ".join(
             f"{a} {rula.get(a, float('nan')):g}/{g:g}" for a, g in reba.items()))
-    tests = summary.get("wilcoxon_by_metric") or {"kwear_integral": summary.get("wilcoxon") or {}}
-    for w in tests.values():
-        if w.get("p") is not None:
-            lines.append(f"Wilcoxon signed-rank ({w['metric']}, hrc vs h-only, n={w['n']}): "
-                         f"W = {w['statistic']:g}, p = {w['p']:.3g}")
+    lines.extend(wilcoxon_lines(summary))
     for mode, m in modes.items():
         if mode_or_default(mode).uses_robot or m.get("repetitions_abandoned") or m.get("worker_failures"):
             lines.extend(_table(mode, m.get("allocation_rows", []), actions))
