@@ -20,9 +20,9 @@ from ergosim.posture import KWEAR_JOINTS
 from ergosim.twin.records import TICK_COLUMNS, Allocation, Failure, SubjectRun
 from ergosim.viz.reason import reason_text
 
-__all__ = ["write_allocations", "write_decisions", "write_failures", "write_ticks", "write_subjects",
-           "write_action_traces", "ALLOCATION_COLUMNS", "DECISION_COLUMNS", "FAILURE_COLUMNS",
-           "SUBJECT_COLUMNS", "ACTION_TRACE_COLUMNS"]
+__all__ = ["subject_row", "write_allocations", "write_decisions", "write_failures", "write_ticks",
+           "write_subjects", "write_action_traces", "ALLOCATION_COLUMNS", "DECISION_COLUMNS",
+           "FAILURE_COLUMNS", "SUBJECT_COLUMNS", "ACTION_TRACE_COLUMNS"]
 
 ALLOCATION_COLUMNS = (
     "subject", "mode", "repetition", "order", "action", "agent",
@@ -108,20 +108,22 @@ def write_ticks(path: Path, runs: Sequence[SubjectRun]) -> None:
             f.write("".join(prefix + line + "\n" for line in g9_csv(rows).decode().splitlines()))
 
 
+def subject_row(worker: str, r: SubjectRun) -> list:
+    """The :data:`SUBJECT_COLUMNS` values of ``r``, the run of the worker named ``worker``."""
+    done = [a for a in r.allocations if a.done]
+    return [r.subject, worker, r.mode, r.repetitions_completed,
+            sum(o.outcome == "abandoned" for o in r.outcomes), r.takt_overruns, float(r.kwear_integral),
+            float(r.kwear_integral_run), float(r.kwear_mean), float(r.time_above_threshold),
+            float(r.duration), len(done), sum(r.by_robot(a.agent) for a in done), r.human]
+
+
 def write_subjects(path: Path, runs: Sequence[tuple[str, SubjectRun]]) -> None:
     """subjects.csv: :data:`SUBJECT_COLUMNS` for each (worker name, run), in the order given."""
     with atomic_open(path, "w") as f:
         writer = csv.writer(f, lineterminator="\n")
         writer.writerow(SUBJECT_COLUMNS)
         for worker, r in runs:
-            done = [a for a in r.allocations if a.done]
-            writer.writerow([
-                r.subject, worker, r.mode, r.repetitions_completed,
-                sum(o.outcome == "abandoned" for o in r.outcomes), r.takt_overruns,
-                repr(r.kwear_integral), repr(r.kwear_integral_run), repr(r.kwear_mean),
-                repr(r.time_above_threshold), repr(r.duration), len(done),
-                sum(r.by_robot(a.agent) for a in done), r.human,
-            ])
+            writer.writerow([repr(v) if isinstance(v, float) else v for v in subject_row(worker, r)])
 
 
 def write_action_traces(path: Path, traces: Sequence[tuple[int, str, np.ndarray, np.ndarray]]) -> None:
