@@ -6,6 +6,8 @@ names files that exist.
 from __future__ import annotations
 
 import re
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -131,3 +133,19 @@ def test_every_relative_link_of_the_docs_resolves():
             elif fragment and target.suffix == ".md" and fragment not in _anchors(target):
                 bad.append(f"{path.name}: {url} (no such heading)")
     assert bad == []
+
+
+def test_the_sweep_guide_lists_every_mode():
+    """Every mode ergosim registers itself (asked in a fresh process: tests register modes of their own)."""
+    ask = "from ergosim.twin.modes import MODES; print(*MODES.names())"
+    names = subprocess.run([sys.executable, "-c", ask], capture_output=True, text=True, check=True,
+                           timeout=120).stdout.split()
+    row = next(line for line in (ROOT / "docs" / "sweeps.md").read_text().splitlines()
+               if line.startswith("| `modes` |"))
+    assert "kwear-lookahead" in names and [m for m in names if f"`{m}`" not in row] == []
+
+
+def test_the_docs_point_to_no_path_outside_the_repository():
+    for path in _docs():
+        text = path.read_text(encoding="utf-8")
+        assert "/work/" not in text and "shared/tools" not in text, path.name

@@ -219,11 +219,17 @@ _ATTEMPT_COLUMNS = (("repetition", "int32"), ("order", "int32"), ("action", "str
                     ("t_end", "float64"), ("human_cost", "float64"), ("robot_cost", "float64"))
 """A sweep unit's attempts (allocations.parquet after the unit's own columns)."""
 
+_FAILURE_COLUMNS = (("time", "float64"), ("repetition", "int32"), ("action", "string"), ("agent", "string"),
+                    ("status", "string"), ("message", "string"))
+"""A sweep unit's failed attempts and abandoned repetitions, each with its message (failures.parquet)."""
+
 OUTPUTS: tuple[Output, ...] = (
     Output("allocations", ("allocations.csv",), _allocations, each=True,
            unit_table=UnitTable(_ATTEMPT_COLUMNS, lambda run: [[getattr(a, c) for c, _ in _ATTEMPT_COLUMNS]
                                                                for a in run.allocations])),
-    Output("failures", ("failures.csv",), _failures, each=True),
+    Output("failures", ("failures.csv",), _failures, each=True,
+           unit_table=UnitTable(_FAILURE_COLUMNS, lambda run: [[getattr(f, c) for c, _ in _FAILURE_COLUMNS]
+                                                               for f in run.failures])),
     Output("subject_records", (RECORDS_FILE,), _records, each=True),
     Output("team", ("team.json",), _team, each=True),
     Output("ticks", ("ticks.csv",), _ticks, merge=_joined("ticks.csv", by_mode=True)),
