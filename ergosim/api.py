@@ -27,6 +27,7 @@ from pathlib import Path
 from typing import Any
 
 from ergosim.experiment.protocol import ScenarioConfig
+from ergosim.experiment.frames import Frames, run_frames
 from ergosim.experiment.scenario import (
     Scenario,
     load_scenario,
@@ -58,6 +59,7 @@ __all__ = [
     "session",
     "workcell",
     "Results",
+    "Frames",
     "Scenario",
     "ScenarioConfig",
     "SubjectResult",
@@ -130,6 +132,12 @@ class Results:
     def failures(self) -> list[Failure]:
         """Every failed attempt and abandoned repetition (``failures.csv``)."""
         return [f for s in self.subjects for run in s.runs.values() for f in run.failures]
+
+    def frames(self) -> Frames:
+        """The run's allocations, ticks and subjects as pandas DataFrames (``allocations``, ``ticks``,
+        ``subjects``: the columns of allocations.csv, ticks.csv and subjects.csv). Needs the ``analysis``
+        extra (``pip install 'ergosim[analysis]'``); without pandas, a one-line error says so."""
+        return run_frames(self.subjects)
 
     def robot_share(self, mode: str) -> float:
         """Completed robot actions over completed actions either agent may do, in ``mode``."""

@@ -22,8 +22,8 @@ from ergosim.logs import configure
 
 __all__ = ["main", "build_parser"]
 
-COMMANDS = ("plan", "run", "scenarios", "replay", "render", "export", "plot", "fidelity", "sweep", "compare",
-            "merge")
+COMMANDS = ("plan", "run", "scenarios", "replay", "render", "export", "plot", "report", "fidelity", "sweep",
+            "compare", "merge")
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -41,6 +41,7 @@ RUN_FIXTURES = frozenset({
     "reba_run",  # test_reba_run.py
     "bracket",  # test_action_kinds.py
     "ms_h_only", "gearbox_h_only", "pcb_run",  # test_worker_realism.py
+    "gearbox_run",  # test_report.py
 })
 """Fixtures that run a scenario (seconds each): a test that reads one is ``slow``, so the quick tier
 (``-m "not slow"``) never waits for a run."""

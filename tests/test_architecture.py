@@ -356,7 +356,8 @@ def test_run_merge_and_sweep_write_through_the_one_outputs_list():
     assert (lists, "write_outputs") in _imported_names(mods["ergosim/experiment/scenario_run.py"])
     assert (lists, "merge_outputs") in _imported_names(mods["ergosim/experiment/run_merge.py"])
     assert (lists, "OUTPUTS") in _imported_names(mods["ergosim/sweep/units.py"])
-    writers = {("ergosim.experiment.csv_files", n) for n in ("write_allocations", "write_failures",
+    writers = {("ergosim.experiment.csv_files", n) for n in ("write_allocations", "write_decisions",
+                                                             "write_failures",
                                                              "write_ticks", "write_subjects",
                                                              "write_action_traces")}
     writers |= {("ergosim.experiment.subject_records", "write_records"),

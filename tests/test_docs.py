@@ -6,6 +6,8 @@ names files that exist.
 from __future__ import annotations
 
 import re
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -66,3 +68,84 @@ def test_the_readme_walk_through_names_real_files():
             "examples/own_workcell/bracket_cell.toml"} <= files
     assert all((ROOT / f).is_file() for f in files)
     assert "ergosim run examples/own_workcell/bracket.toml" in section
+
+
+# -- the README is a front page; history and measurements live elsewhere ------------------------------------
+README_MAX_BYTES = 12 * 1024
+"""The README's budget: a front page (STYLE.md: mink's is 3.6 KB), about 12 KB."""
+
+QUICKSTART = (
+    "python3 -m venv .venv && .venv/bin/pip install -q -e . && .venv/bin/ergosim run kwear-validation "
+    "--rrd results/kwear-validation/run.rrd",
+    "python3 -m venv .venv && .venv/bin/pip install -q -e '.[dev]' && .venv/bin/python -m pytest -q",
+)
+"""The two Quickstart commands, exactly: the hook and CI read them."""
+
+ISSUE_NUMBERS_ALLOWED = ("docs/performance.md", "CHANGELOG.md")
+_ISSUE = re.compile(r"\b[Ii]ssues? #?\d+|\bissue[- ]?#\d+|(?<![\w&/])#\d+\b")
+
+
+def _docs() -> list[Path]:
+    return [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+
+
+def test_the_readme_is_a_front_page_with_the_two_quickstart_commands():
+    readme = (ROOT / "README.md").read_bytes()
+    assert len(readme) <= README_MAX_BYTES, f"README.md is {len(readme)} bytes (at most {README_MAX_BYTES})"
+    text = readme.decode()
+    quick = text[text.index("## Quickstart"):text.index("\n## ", text.index("## Quickstart") + 1)]
+    assert [c for c in QUICKSTART if f"```bash\n{c}\n```" in quick] == list(QUICKSTART)
+    for what in ("synthetic", "fidelity", "robot share", "takt", "docs/fidelity.md", "docs/performance.md"):
+        assert what in text, what
+
+
+def test_no_issue_numbers_outside_the_performance_page_and_the_changelog():
+    found = {}
+    for path in _docs():
+        rel = path.relative_to(ROOT).as_posix()
+        if rel in ISSUE_NUMBERS_ALLOWED:
+            continue
+        hits = _ISSUE.findall(re.sub(r"\(#[\w-]+\)", "", path.read_text(encoding="utf-8")))
+        if hits:
+            found[rel] = hits
+    assert found == {}
+
+
+def _anchors(path: Path) -> set[str]:
+    text = re.sub(r"```.*?```", "", path.read_text(encoding="utf-8"), flags=re.S)
+    heads = re.findall(r"(?m)^#+ (.*)$", text)
+    return {re.sub(r"[^\w\- ]", "", h.strip().lower()).replace(" ", "-") for h in heads}
+
+
+def test_every_relative_link_of_the_docs_resolves():
+    """Pages were split and moved: every relative link of the README, the docs and the changelog names a file
+    that exists and, with a #fragment, a heading of that file."""
+    bad = []
+    for path in [*_docs(), ROOT / "CHANGELOG.md"]:
+        text = re.sub(r"```.*?```", "", path.read_text(encoding="utf-8"), flags=re.S)
+        for url in re.findall(r"\]\(([^)\s]+)\)", text):
+            if url.startswith(("http://", "https://", "mailto:")):
+                continue
+            name, _, fragment = url.partition("#")
+            target = path.parent / name if name else path
+            if not target.exists():
+                bad.append(f"{path.name}: {url} (no such file)")
+            elif fragment and target.suffix == ".md" and fragment not in _anchors(target):
+                bad.append(f"{path.name}: {url} (no such heading)")
+    assert bad == []
+
+
+def test_the_sweep_guide_lists_every_mode():
+    """Every mode ergosim registers itself (asked in a fresh process: tests register modes of their own)."""
+    ask = "from ergosim.twin.modes import MODES; print(*MODES.names())"
+    names = subprocess.run([sys.executable, "-c", ask], capture_output=True, text=True, check=True,
+                           timeout=120).stdout.split()
+    row = next(line for line in (ROOT / "docs" / "sweeps.md").read_text().splitlines()
+               if line.startswith("| `modes` |"))
+    assert "kwear-lookahead" in names and [m for m in names if f"`{m}`" not in row] == []
+
+
+def test_the_docs_point_to_no_path_outside_the_repository():
+    for path in _docs():
+        text = path.read_text(encoding="utf-8")
+        assert "/work/" not in text and "shared/tools" not in text, path.name

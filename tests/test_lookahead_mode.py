@@ -73,6 +73,7 @@ def test_a_run_decides_by_sequences_and_is_paired_with_the_papers_rule(multi, tm
     assert all(np.isfinite(d.through) for d in run.decisions)
     summary = json.loads((tmp_path / "out" / "summary.json").read_text())
     assert summary["wilcoxon"]["n"] == 1  # kwear-lookahead against hrc, subject by subject
+    assert summary["wilcoxon"]["modes"] == ["kwear-lookahead", "hrc"]  # named from the run, not "h-only"
     assert summary["config"]["takt_weight"] is None and summary["config"]["lookahead_exact"] == 20_000
     again = run_subject(multi, 0, 0, ("kwear-lookahead",)).runs["kwear-lookahead"]
     assert [(a.action, a.agent, a.t_end) for a in again.allocations] == \

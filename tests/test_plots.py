@@ -101,9 +101,9 @@ def test_mode_figure_pairs_each_subject_and_quotes_the_summarys_test(run_dir):
                     if r["mode"] == m and r["subject"] == str(s)]
             assert list(art[f"{metric}/{s}"].get_ydata()) == want
             assert want == [summary["modes"][m][key][s] for m in ("hrc", "h-only")]  # exactly the summary's
-    p = summary["wilcoxon"]["p"]
-    assert f"p = {p:.2g}, n = 2" in art["p/kwear_integral/h-only"].get_text()
-    assert art["p/kwear_integral/h-only"].get_text().startswith("hrc vs h-only: Wilcoxon")
+    assert summary["wilcoxon"]["n"] == 2  # too few pairs for a statistic: the figure says so instead
+    text = art["p/kwear_integral/h-only"].get_text()
+    assert text.startswith("hrc vs h-only: no test") and "n = 2 pairs, too few" in text and "W =" not in text
 
 
 def test_paper_figure_equals_kwear_actions_csv(run_dir):
@@ -171,7 +171,7 @@ def test_no_plots_writes_the_same_files_and_plot_draws_the_figures_later(kv_run,
     assert main(["run", "kwear-validation", "--reps", "1", "--mode", "hrc", "--jobs", "1", "--quiet",
                  *KV_SHORT, "--no-plots", "--out", str(out)]) == 0
     assert "kwear_state_*.json)" in capsys.readouterr().out  # the results line lists no *.png
-    pngs = sorted(p.name for p in kv_run.out.glob("*.png"))
+    pngs = sorted(p.name for p in kv_run.out.glob("*.png") if p.name != "cell.png")  # the still: a run's
     assert len(pngs) >= 3 and not list(out.glob("*.png"))
     for name in ("summary.json", "ticks.csv", "allocations.csv", "kwear_actions.csv", "subjects.csv"):
         assert (out / name).read_bytes() == (kv_run.out / name).read_bytes(), name
@@ -206,7 +206,7 @@ def test_mode_figure_shows_the_peak_wear_and_says_why_the_time_above_v_th_is_zer
         assert list(art[f"peak_v/{s}"].get_ydata()) == [peaks[("hrc", s)], peaks[("h-only", s)]]
     assert art["v_th"].get_ydata()[0] == 0.8
     assert "no joint reached it in any mode" in art["note/peak_v"].get_text()
-    assert art["p/peak_v/h-only"].get_text().startswith("hrc vs h-only: Wilcoxon")
+    assert art["p/peak_v/h-only"].get_text().startswith("hrc vs h-only: no test")
     # a subject above V_th brings the time panel back, with its test
     above = [SubjectRow(r.subject, r.worker, r.mode, r.kwear_integral, 4.0 * (r.mode == "h-only"))
              for r in rows]

@@ -22,7 +22,8 @@ RUN = ["run", "multi-subject", "--subjects", "3", "--reps", "1", "--jobs", "1", 
        "eta_max=2"]
 SAME = ("summary.json", "subject_records.json", "allocations.csv", "failures.csv", "ticks.csv",
         "subjects.csv", "kwear_actions.csv", "allocation_histogram.png", "kwear_a1.png", "kwear_actions.png",
-        "kwear_modes.png", "kwear_timeline_hrc.png", "kwear_state_s2_h-only.json")
+        "kwear_modes.png", "kwear_timeline_hrc.png", "kwear_state_s2_h-only.json", "decisions.csv",
+        "cell.png", "report.html")
 
 
 @pytest.fixture(scope="module")

@@ -4,6 +4,7 @@ statistics and figures are consistent with the units. Short units: 1 repetition,
 
 from __future__ import annotations
 
+import csv
 import json
 import os
 import shutil
@@ -312,3 +313,36 @@ def test_compare_warns_about_an_interrupted_or_crashed_folder(local, tmp_path, c
     captured = capsys.readouterr()
     assert "was interrupted (Ctrl-C or SIGTERM); only the units it finished are compared" in captured.err
     assert json.loads(captured.out)["warnings"] == [captured.err.split("warning: ")[1].strip()]
+
+
+@pytest.mark.slow
+def test_a_unit_keeps_each_failures_message(forced_run, tmp_path):
+    """The forced run's cell as a sweep: the worker fails a2 in every repetition (L out of reach of planted
+    feet). allocations.parquet says ``failed:...``; failures.parquet keeps what went wrong in words, the same
+    rows as the run's failures.csv."""
+    path = _sweep_file(tmp_path, """
+        scenario = "multi-subject"
+        subjects = 1
+        seeds = [0]
+        modes = ["hrc"]
+        [set]
+        repetitions = 2
+        robot_cost = 50
+        "scene.l_xy" = [0.14, 0.88]
+        "scene.worker.standing_area" = [0, 0, 0, 0]
+        "scene.worker.max_turn" = 0
+    """)
+    out = tmp_path / "out"
+    assert main(["sweep", str(path), "--out", str(out), "--jobs", "1", "--quiet"]) == 0
+    attempts = pq.read_table(out / "allocations.parquet").to_pylist()
+    assert any(a["status"].startswith("failed:") for a in attempts)
+    failures = pq.read_table(out / "failures.parquet").to_pylist()
+    with (forced_run.out / "failures.csv").open(encoding="utf-8", newline="") as f:
+        expected = list(csv.DictReader(f))
+    assert failures and len(failures) == len(expected)
+    for got, want in zip(failures, expected, strict=True):
+        assert (got["repetition"], got["action"], got["agent"], got["status"], got["message"]) == (
+            int(want["repetition"]), want["action"], want["agent"], want["status"], want["message"])
+        assert got["time"] == pytest.approx(float(want["time"]), abs=1e-4) and len(got["message"]) > 20
+    unit = json.loads(next((out / "units").glob("*.json")).read_text())
+    assert [row[-1] for row in unit["failures"]] == [w["message"] for w in expected]

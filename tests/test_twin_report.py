@@ -102,3 +102,4 @@ def test_kwear_integral_covers_the_production_schedule_only():
     assert set(s["wilcoxon_by_metric"]) == {"kwear_integral", "kwear_integral_run", "kwear_mean",
                                             "time_above_vth"}
     assert s["wilcoxon"]["metric"] == "kwear_integral"
+    assert all(w["modes"] == ["hrc", "h-only"] for w in s["wilcoxon_by_metric"].values())

@@ -8,7 +8,6 @@ MuJoCo in its initial state: the worker at rest, the parts where they are laid o
 from __future__ import annotations
 
 import argparse
-import io
 from pathlib import Path
 
 from ergosim.atomic import check_output_file
@@ -36,12 +35,9 @@ def add_parser(sub) -> argparse.ArgumentParser:
 
 
 def run(args) -> int:
-    import matplotlib.image  # noqa: PLC0415
-
     from ergosim.atomic import write_bytes  # noqa: PLC0415
+    from ergosim.experiment.report.still import workcell_png  # noqa: PLC0415
     from ergosim.experiment.scenario import load_scenario  # noqa: PLC0415
-    from ergosim.scenes import build_cell, render_workcell  # noqa: PLC0415
-    from ergosim.video.frames import open_renderer  # noqa: PLC0415
     from ergosim.video.run_video import parse_size  # noqa: PLC0415
 
     out = Path(args.out)
@@ -56,15 +52,9 @@ def run(args) -> int:
         view = spec.view(args.view)
     except ConfigError as err:
         raise ConfigError(err.what, where="--view") from None
-    cell = build_cell(spec)
-    cell.model.vis.global_.offwidth = max(int(cell.model.vis.global_.offwidth), width)
-    cell.model.vis.global_.offheight = max(int(cell.model.vis.global_.offheight), height)
-    open_renderer(cell.model, 64, 64).close()  # a one-line error when there is no OpenGL context
-    image = render_workcell(cell, width=width, height=height, view=view.name)
-    buf = io.BytesIO()
-    matplotlib.image.imsave(buf, image, format="png", metadata={"Software": None})
+    png = workcell_png(spec, view=view.name, width=width, height=height)
     try:
-        write_bytes(out, buf.getvalue())
+        write_bytes(out, png)
     except OSError as err:
         raise ConfigError(f"cannot write {out}: {err.strerror or err}", where="--out") from None
     print(f"wrote {out} ({width}x{height}, view {view.name!r} of workcell {spec.name!r}; views: "

@@ -191,8 +191,10 @@ def run(args) -> int:
             raise err from None
     print(summary_text(result.summary, cfg))
     team = "team.json, " if (out / "team.json").is_file() else ""
-    print(f"\nresults: {out.resolve()} (run.json, summary.json, {team}allocations.csv, failures.csv, "
-          f"ticks.csv, subjects.csv, kwear_actions.csv, kwear_state_*.json{', *.png' if args.plots else ''})")
+    print(f"\nresults: {out.resolve()} (run.json, summary.json, {team}allocations.csv, decisions.csv, "
+          f"failures.csv, ticks.csv, subjects.csv, kwear_actions.csv, kwear_state_*.json"
+          f"{', *.png' if args.plots else ''})")
+    print(f"report: {(out / 'report.html').resolve()}  (one page to open in a browser or hand on)")
     if args.rrd:
         print(f"recording: {Path(args.rrd).resolve()}  (open it with: rerun {args.rrd})")
     if result.video is not None:

@@ -71,8 +71,10 @@ MAX_CELLS_SHOWN = 12
 def _estimate(mean, lo, hi, n) -> str:
     if mean is None:
         return "-"
-    ci = f" [{lo:.3g}, {hi:.3g}]" if lo is not None and hi is not None else ""
-    return f"{mean:.3g}{ci} n={n}"
+    from ergosim.sweep.stats import interval_text, round_off  # noqa: PLC0415 - keep `ergosim --help` fast
+
+    ci = f" [{interval_text(lo, hi, mean)}]" if lo is not None and hi is not None else ""
+    return f"{round_off(mean, max(abs(mean), abs(lo or 0.0), abs(hi or 0.0))):.3g}{ci} n={n}"
 
 
 def _cells_text(out: Path, sweep) -> str:

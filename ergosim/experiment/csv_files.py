@@ -1,4 +1,5 @@
-"""The CSV files of a run: allocations.csv, failures.csv, ticks.csv, subjects.csv and kwear_actions.csv.
+"""The CSV files of a run: allocations.csv, decisions.csv, failures.csv, ticks.csv, subjects.csv and
+kwear_actions.csv.
 
 Every file is written atomically (:mod:`ergosim.atomic`), so an interrupted run leaves complete files.
 Floats that a figure is computed from are written exactly (``repr``).
@@ -17,15 +18,21 @@ from ergosim.atomic import atomic_open
 from ergosim.g9_csv import g9_csv
 from ergosim.posture import KWEAR_JOINTS
 from ergosim.twin.records import TICK_COLUMNS, Allocation, Failure, SubjectRun
+from ergosim.viz.reason import reason_text
 
-__all__ = ["write_allocations", "write_failures", "write_ticks", "write_subjects", "write_action_traces",
-           "ALLOCATION_COLUMNS", "FAILURE_COLUMNS", "SUBJECT_COLUMNS", "ACTION_TRACE_COLUMNS"]
+__all__ = ["subject_row", "write_allocations", "write_decisions", "write_failures", "write_ticks",
+           "write_subjects", "write_action_traces", "ALLOCATION_COLUMNS", "DECISION_COLUMNS",
+           "FAILURE_COLUMNS", "SUBJECT_COLUMNS", "ACTION_TRACE_COLUMNS"]
 
 ALLOCATION_COLUMNS = (
     "subject", "mode", "repetition", "order", "action", "agent",
     "human_cost", "robot_cost", "t_start", "t_end", "status", "attempt", "forced", "allocatable",
 )
 """Columns of ``allocations.csv``: one row per attempt (see :class:`~ergosim.twin.records.Allocation`)."""
+
+DECISION_COLUMNS = ("time", "subject", "mode", "repetition", "action", "agent", "reason")
+"""Columns of ``decisions.csv``: one row per allocation decision, ``reason`` the sentence of
+:func:`~ergosim.viz.reason.reason_text` (what the recording and the video show)."""
 
 FAILURE_COLUMNS = ("time", "subject", "mode", "repetition", "action", "agent", "status", "message")
 """Columns of ``failures.csv``: one row per failed attempt or abandoned repetition."""
@@ -59,6 +66,17 @@ def write_allocations(path: Path, allocations: Sequence[Allocation]) -> None:
             ])
 
 
+def write_decisions(path: Path, runs: Sequence[SubjectRun]) -> None:
+    """decisions.csv: :data:`DECISION_COLUMNS`, every decision of each run in the order given, atomically."""
+    with atomic_open(path, "w") as f:
+        writer = csv.writer(f, lineterminator="\n")
+        writer.writerow(DECISION_COLUMNS)
+        for run in runs:
+            for d in run.decisions:
+                writer.writerow([f"{d.time:.4f}", run.subject, run.mode, d.repetition, d.action, d.agent,
+                                 reason_text(d)])
+
+
 def write_failures(path: Path, failures: Sequence[Failure]) -> None:
     """failures.csv: :data:`FAILURE_COLUMNS`, one row per failed attempt or abandoned repetition."""
     with atomic_open(path, "w") as f:
@@ -90,20 +108,22 @@ def write_ticks(path: Path, runs: Sequence[SubjectRun]) -> None:
             f.write("".join(prefix + line + "\n" for line in g9_csv(rows).decode().splitlines()))
 
 
+def subject_row(worker: str, r: SubjectRun) -> list:
+    """The :data:`SUBJECT_COLUMNS` values of ``r``, the run of the worker named ``worker``."""
+    done = [a for a in r.allocations if a.done]
+    return [r.subject, worker, r.mode, r.repetitions_completed,
+            sum(o.outcome == "abandoned" for o in r.outcomes), r.takt_overruns, float(r.kwear_integral),
+            float(r.kwear_integral_run), float(r.kwear_mean), float(r.time_above_threshold),
+            float(r.duration), len(done), sum(r.by_robot(a.agent) for a in done), r.human]
+
+
 def write_subjects(path: Path, runs: Sequence[tuple[str, SubjectRun]]) -> None:
     """subjects.csv: :data:`SUBJECT_COLUMNS` for each (worker name, run), in the order given."""
     with atomic_open(path, "w") as f:
         writer = csv.writer(f, lineterminator="\n")
         writer.writerow(SUBJECT_COLUMNS)
         for worker, r in runs:
-            done = [a for a in r.allocations if a.done]
-            writer.writerow([
-                r.subject, worker, r.mode, r.repetitions_completed,
-                sum(o.outcome == "abandoned" for o in r.outcomes), r.takt_overruns,
-                repr(r.kwear_integral), repr(r.kwear_integral_run), repr(r.kwear_mean),
-                repr(r.time_above_threshold), repr(r.duration), len(done),
-                sum(r.by_robot(a.agent) for a in done), r.human,
-            ])
+            writer.writerow([repr(v) if isinstance(v, float) else v for v in subject_row(worker, r)])
 
 
 def write_action_traces(path: Path, traces: Sequence[tuple[int, str, np.ndarray, np.ndarray]]) -> None:

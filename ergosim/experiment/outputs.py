@@ -23,11 +23,13 @@ from ergosim.errors import ConfigError
 from ergosim.experiment.csv_files import (
     write_action_traces,
     write_allocations,
+    write_decisions,
     write_failures,
     write_subjects,
     write_ticks,
 )
 from ergosim.experiment.kwear_state import state_document
+from ergosim.experiment.report import REPORT_FILE, STILL_FILE, write_report
 from ergosim.experiment.subject_records import RECORDS_FILE, RunRecord, SubjectRecord, write_records
 
 __all__ = ["Output", "UnitTable", "Products", "OUTPUTS", "output", "write_outputs", "merge_outputs"]
@@ -39,7 +41,8 @@ class Products:
     (:meth:`~ergosim.experiment.protocol.ScenarioConfig.record`); ``records``: the subject records, in subject
     order; ``summary``: the summary.json document; ``team``: team.json's, or None; ``results``: the
     subjects' full results (per-tick logs, KWear traces), empty in a merge; ``plot_subjects``: the subjects
-    the figures show (None: all); ``plots``: False writes no figures (``ergosim run --no-plots``)."""
+    the figures show (None: all); ``plots``: False writes no figures (``ergosim run --no-plots``);
+    ``still``: the workcell's still as PNG bytes (cell.png; b"": none)."""
 
     scenario: str
     seed: int
@@ -51,6 +54,7 @@ class Products:
     results: tuple = ()
     plot_subjects: tuple[int, ...] | None = None
     plots: bool = True
+    still: bytes = b""
 
     def runs_by_mode(self) -> list[tuple[str, RunRecord]]:
         """(worker name, run record) of every run: mode by mode in the protocol's order, then subject."""
@@ -93,6 +97,11 @@ class Output:
 # -- writers -----------------------------------------------------------------------------------------------
 def _allocations(out: Path, p: Products) -> None:
     write_allocations(out / "allocations.csv", [a for run in p.runs_by_subject() for a in run.allocations])
+
+
+def _decisions(out: Path, p: Products) -> None:
+    modes = p.config["modes"]
+    write_decisions(out / "decisions.csv", [r.runs[m] for r in p.results for m in modes if m in r.runs])
 
 
 def _failures(out: Path, p: Products) -> None:
@@ -147,8 +156,17 @@ def _plots(out: Path, p: Products) -> None:
         write_plots(out, subjects=p.plot_subjects)
 
 
+def _still(out: Path, p: Products) -> None:
+    if p.still:
+        write_bytes(out / STILL_FILE, p.still)
+
+
 def _summary(out: Path, p: Products) -> None:
     write_json(out / "summary.json", p.summary)
+
+
+def _report(out: Path, p: Products) -> None:
+    write_report(out)  # from the folder's files, summary.json among them (``ergosim report DIR`` the same)
 
 
 # -- how a merge makes what the records cannot give ----------------------------------------------------------
@@ -201,22 +219,31 @@ _ATTEMPT_COLUMNS = (("repetition", "int32"), ("order", "int32"), ("action", "str
                     ("t_end", "float64"), ("human_cost", "float64"), ("robot_cost", "float64"))
 """A sweep unit's attempts (allocations.parquet after the unit's own columns)."""
 
+_FAILURE_COLUMNS = (("time", "float64"), ("repetition", "int32"), ("action", "string"), ("agent", "string"),
+                    ("status", "string"), ("message", "string"))
+"""A sweep unit's failed attempts and abandoned repetitions, each with its message (failures.parquet)."""
+
 OUTPUTS: tuple[Output, ...] = (
     Output("allocations", ("allocations.csv",), _allocations, each=True,
            unit_table=UnitTable(_ATTEMPT_COLUMNS, lambda run: [[getattr(a, c) for c, _ in _ATTEMPT_COLUMNS]
                                                                for a in run.allocations])),
-    Output("failures", ("failures.csv",), _failures, each=True),
+    Output("failures", ("failures.csv",), _failures, each=True,
+           unit_table=UnitTable(_FAILURE_COLUMNS, lambda run: [[getattr(f, c) for c, _ in _FAILURE_COLUMNS]
+                                                               for f in run.failures])),
     Output("subject_records", (RECORDS_FILE,), _records, each=True),
     Output("team", ("team.json",), _team, each=True),
     Output("ticks", ("ticks.csv",), _ticks, merge=_joined("ticks.csv", by_mode=True)),
     Output("kwear_state", ("kwear_state_*.json",), _states, merge=_copied("kwear_state_s*_*.json")),
     Output("subjects", ("subjects.csv",), _subjects),
     Output("kwear_actions", ("kwear_actions.csv",), _action_traces, merge=_joined("kwear_actions.csv")),
+    Output("decisions", ("decisions.csv",), _decisions, merge=_joined("decisions.csv")),
     Output("plots", ("kwear_*.png", "kwear_timeline_*.png", "allocation_histogram.png"), _plots),
+    Output("still", (STILL_FILE,), _still, merge=_copied(STILL_FILE)),
     Output("summary", ("summary.json",), _summary, each=True),
+    Output("report", (REPORT_FILE,), _report),
 )
-"""Every file of a run folder, in the order written (summary.json last: a reader that finds it finds the rest
-of that state of the run)."""
+"""Every file of a run folder, in the order written (summary.json next to last: a reader that finds it finds
+the rest of that state of the run; report.html, last, is drawn from them all)."""
 
 
 def output(name: str) -> Output:

@@ -32,6 +32,8 @@ from ergosim.experiment.interrupt import (
 )
 from ergosim.experiment.outputs import Products, output, write_outputs
 from ergosim.experiment.protocol import ScenarioConfig
+from ergosim.experiment.report import write_report
+from ergosim.experiment.report.still import run_still
 from ergosim.experiment.run_folder import RunFolder
 from ergosim.experiment.runner import run_subject
 from ergosim.experiment.scenario import Scenario
@@ -133,7 +135,7 @@ def _finish(folder: RunFolder, stop, out: Path, products: Products | None, statu
         folder.discard()  # an early error leaves no empty output folder behind
         return {}, status
     try:
-        write_outputs(out, products, final=True, skip=("summary",))
+        write_outputs(out, products, final=True, skip=("summary", "report"))
     except OSError as err:  # a full disk, a folder made read-only meanwhile: one line, and run.json says so
         why = err.strerror or str(err)
         with contextlib.suppress(OSError):
@@ -148,6 +150,7 @@ def _finish(folder: RunFolder, stop, out: Path, products: Products | None, statu
                                             "results were written"
         final = _with_status(products, status)
         output("summary").write(out, final)
+        output("report").write(out, final)
         if final.summary["status"] == "abandoned":
             status = "abandoned"
             reason = f"{final.summary['repetitions_abandoned']} repetition(s) abandoned"
@@ -222,6 +225,8 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
                 bar.close()
             products = _products(name, seed, cfg, results, False, status, plot_subjects, subjects,
                                  scenario.overrides, plots) if results or status == "interrupted" else None
+            if products is not None and plots:
+                products = dataclasses.replace(products, still=run_still(scenario))
             summary, status = _finish(folder, stop, out, products, status, reason)
         if status == "interrupted":
             stop.release()  # a signal held while a whole run was written (its outputs say interrupted)
@@ -231,6 +236,8 @@ def run_scenario(scenario: Scenario, *, seed: int, out: Path, jobs: int | None =
     if record_mode is not None and chosen:
         _record(recorder, scenario, seed, chosen[0], record_mode)
     filmed = _film(scenario, seed, results, video, progress)
+    if filmed is not None:
+        write_report(out, video=video.path)  # the page again, with the video
     return ScenarioResult(results, summary, out, time.monotonic() - start, status, filmed)
 
 

@@ -20,7 +20,8 @@ from ergosim.experiment.subject_records import SubjectRecord
 from ergosim.twin.modes import mode_or_default
 from ergosim.twin.records import Allocation, SubjectRun
 
-__all__ = ["summarise", "summary_of", "allocation_rows", "wilcoxon_between", "allocation_table"]
+__all__ = ["summarise", "summary_of", "allocation_rows", "wilcoxon_between", "wilcoxon_min_p",
+           "too_few_pairs", "allocation_table"]
 
 
 def _finite(x: float) -> float | None:
@@ -100,6 +101,18 @@ def _mode_summary(runs: Sequence[SubjectRun], actions: Sequence[str] = ()) -> di
     }
 
 
+def wilcoxon_min_p(n: int) -> float:
+    """The smallest two-sided p a Wilcoxon signed-rank test can give with ``n`` non-zero differences:
+    every difference of one sign, probability 2 / 2ⁿ under the null (exact distribution)."""
+    return 1.0 if n <= 0 else min(1.0, 2.0 / 2.0**n)
+
+
+def too_few_pairs(n: int, alpha: float = 0.05) -> bool:
+    """``n`` pairs cannot give a two-sided Wilcoxon p below ``alpha`` whatever the data (2 / 2ⁿ ≥ ``alpha``:
+    fewer than 6 pairs at 0.05), so no statistic is worth printing for them."""
+    return wilcoxon_min_p(n) >= alpha
+
+
 def wilcoxon_between(a: Sequence[float], b: Sequence[float], metric: str) -> dict:
     """Paired Wilcoxon signed-rank test of ``a`` against ``b`` (two-sided), as in paper §7.2."""
     x, y = np.asarray(a, float), np.asarray(b, float)
@@ -150,6 +163,8 @@ def summarise(scenario: str, seed: int, runs_by_mode: dict[str, list[SubjectRun]
                                  ("kwear_mean", "kwear_mean"),
                                  ("time_above_vth", "time_above_threshold"))
         }
+        for test in tests.values():
+            test["modes"] = [mode, other]  # what was compared, named as the run named its modes
         summary["wilcoxon"] = tests["kwear_integral"]
         summary["wilcoxon_by_metric"] = tests
     keys = [(mode_or_default(m).table_key, m) for m in runs_by_mode if mode_or_default(m).table_key]

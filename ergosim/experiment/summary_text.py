@@ -7,11 +7,71 @@ repetition, and each mode's allocation table has a labelled row per subject and 
 
 from __future__ import annotations
 
+import textwrap
+
+from ergosim.experiment.summary import too_few_pairs
 from ergosim.twin.modes import mode_or_default
 
-__all__ = ["summary_text", "warning_lines"]
+__all__ = ["summary_text", "warning_lines", "overrun_words", "wilcoxon_lines", "too_few_words", "SHARE_WORDS"]
 
 _LEGEND = "H worker, R robot, * forced, ! after a failed attempt, - not done, x no agent left"
+
+SHARE_WORDS = (
+    "robot share: of the completed actions that the task lets either agent do, the fraction a robot "
+    "completed (a forced robot action counts, a failed attempt does not).",
+    "of choices: of the decisions at which the allocator could give the action to either agent, the fraction "
+    "it gave a robot (failed and refused attempts count). An action the robot cannot do in this cell (its "
+    "reach, gripper or payload), or one that earlier failures left to one agent, is no choice: it counts in "
+    "robot share but not here, so the two differ most where the robot is refused much of the task.",
+)
+"""What the two robot shares of the summary mean (printed under the table, and in report.html)."""
+
+
+def overrun_words(summary: dict, config: dict) -> list[str]:
+    """The takt and each mode's overruns in words: what the takt is, the schedule it sets, and how long the
+    repetitions took against it."""
+    takt, reps = config.get("takt"), config.get("repetitions")
+    if not takt:
+        return []
+    lines = [f"takt {takt:g} s: the time the line gives one repetition; the schedule is {reps} × {takt:g} s "
+             f"= {reps * takt:g} s per subject and mode (the window of the KWear integral), and a repetition "
+             "that takes longer than the takt is an overrun."]
+    modes = summary.get("modes", {})
+    for mode in [m for m in config.get("modes", modes) if m in modes]:
+        m = modes[mode]
+        took = [r["duration_s"] for r in m.get("repetitions", []) if r.get("duration_s") is not None]
+        over = m.get("takt_overruns", 0)
+        if not took:
+            lines.append(f"{mode}: {over} overrun(s)")
+            continue
+        span = (f"{min(took):.1f} s" if len(took) == 1 else
+                f"{min(took):.1f}-{max(took):.1f} s (mean {sum(took) / len(took):.1f} s)")
+        verdict = ("so this mode does not hold the takt in this cell" if over == len(took)
+                   else "" if over else "every one within it")
+        lines.append(f"{mode}: {over} of {len(took)} repetition(s) over the {takt:g} s takt (repetitions "
+                     f"took {span})" + (f", {verdict}" if verdict else ""))
+    return lines
+
+
+def too_few_words(n: int) -> str:
+    """Why no test is printed for ``n`` pairs."""
+    return (f"n = {n} pair{'s' if n != 1 else ''}, too few for a Wilcoxon signed-rank test (below 6 pairs "
+            "its two-sided p cannot fall below 0.05 whatever the data)")
+
+
+def wilcoxon_lines(summary: dict) -> list[str]:
+    """The paired tests of summary.json, a line each, naming the modes compared; one line saying so instead
+    when there are too few pairs (:func:`~ergosim.experiment.summary.too_few_pairs`)."""
+    tests = summary.get("wilcoxon_by_metric") or {"kwear_integral": summary.get("wilcoxon") or {}}
+    tests = [w for w in tests.values() if w.get("n")]
+    if not tests:
+        return []
+    pair = " vs ".join(tests[0].get("modes") or ["the paired modes"])
+    if too_few_pairs(tests[0]["n"]):
+        return [f"Wilcoxon signed-rank, {pair}, subject by subject: not computed: "
+                f"{too_few_words(tests[0]['n'])}"]
+    return [f"Wilcoxon signed-rank ({w['metric']}, {pair}, n={w['n']}): W = {w['statistic']:g}, "
+            f"p = {w['p']:.3g}" for w in tests if w.get("p") is not None]
 
 
 def _share(m: dict, share: str, robot: str, total: str) -> str:
@@ -45,6 +105,11 @@ def warning_lines(summary: dict) -> list[str]:
     return lines
 
 
+def _wrapped(paragraphs) -> list[str]:
+    """Each paragraph wrapped at 110 columns, its follow-on lines indented."""
+    return [line for text in paragraphs for line in textwrap.wrap(text, 110, subsequent_indent="    ")]
+
+
 def _table(mode: str, rows: list[dict], actions: list[str]) -> list[str]:
     if not rows:
         return []
@@ -68,17 +133,19 @@ def summary_text(summary: dict, cfg) -> str:
     modes = summary.get("modes", {})
     actions = summary.get("action_labels") or sorted({a for m in modes.values()
                                                       for a in m.get("robot_share_by_action", {})})
-    lines.append(f"actions: {' '.join(actions) if actions else '-'}; robot share = completed robot actions / "
-                 "completed actions either agent may do")
-    lines.append(f"{'mode':<8} {'reps done':>9} {'abandoned':>9} {'overruns':>8} {'robot share':>15} "
+    lines.append(f"actions: {' '.join(actions) if actions else '-'}")
+    w = max([8, *(len(m) for m in modes)])
+    lines.append(f"{'mode':<{w}} {'reps done':>9} {'abandoned':>9} {'overruns':>8} {'robot share':>15} "
                  f"{'of choices':>15}  robot share by action")
     for mode, m in modes.items():
         by = "  ".join(f"{a} {100 * s:3.0f}%" for a, s in sorted(m["robot_share_by_action"].items()))
         planned = len(m.get("repetitions", [])) or m["repetitions_completed"]
         reps = f"{m['repetitions_completed']}/{planned}"
-        lines.append(f"{mode:<8} {reps:>9} {m.get('repetitions_abandoned', 0):>9} {m['takt_overruns']:>8} "
+        lines.append(f"{mode:<{w}} {reps:>9} {m.get('repetitions_abandoned', 0):>9} {m['takt_overruns']:>8} "
                      f"{_share(m, 'robot_share', 'robot_actions', 'actions'):>15} "
                      f"{_share(m, 'robot_share_chosen', 'robot_choices', 'choices'):>15}  {by}")
+    lines.extend(_wrapped(SHARE_WORDS))
+    lines.extend(_wrapped(overrun_words(summary, summary.get("config") or {})))
     for key, label in (("kwear_integral_by_subject", "KWear integral ∫ΣV dt over repetitions × takt [s]"),
                        ("kwear_integral_run_by_subject", "KWear integral over the whole run [s]"),
                        ("duration_by_subject", "run duration [s]")):
@@ -91,11 +158,7 @@ def summary_text(summary: dict, cfg) -> str:
         rula = summary.get("rula_g_by_action", {})
         lines.append("G(a_k), RULA grand / REBA score (median over subjects): " + "  ".join(
             f"{a} {rula.get(a, float('nan')):g}/{g:g}" for a, g in reba.items()))
-    tests = summary.get("wilcoxon_by_metric") or {"kwear_integral": summary.get("wilcoxon") or {}}
-    for w in tests.values():
-        if w.get("p") is not None:
-            lines.append(f"Wilcoxon signed-rank ({w['metric']}, hrc vs h-only, n={w['n']}): "
-                         f"W = {w['statistic']:g}, p = {w['p']:.3g}")
+    lines.extend(_wrapped(wilcoxon_lines(summary)))
     for mode, m in modes.items():
         if mode_or_default(mode).uses_robot or m.get("repetitions_abandoned") or m.get("worker_failures"):
             lines.extend(_table(mode, m.get("allocation_rows", []), actions))

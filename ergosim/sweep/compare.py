@@ -27,7 +27,14 @@ from typing import Any
 from ergosim.errors import ConfigError
 from ergosim.experiment.subject_records import RECORDS_FILE, read_records
 from ergosim.sweep.metrics import DEFAULT_METRICS, check_metric, unit_metrics
-from ergosim.sweep.stats import SMALL_N, counted, metric_ci, paired_difference, unpaired_difference
+from ergosim.sweep.stats import (
+    SMALL_N,
+    counted,
+    interval_text,
+    metric_ci,
+    paired_difference,
+    unpaired_difference,
+)
 
 __all__ = ["Folder", "read_folder", "select", "compare_folders", "comparison_text", "settings_difference"]
 
@@ -349,7 +356,7 @@ def _num(x: float | None, width: int = 9) -> str:
 
 
 def _ci(lo: float | None, hi: float | None) -> str:
-    return "[" + (f"{lo:.3g}, {hi:.3g}" if lo is not None and hi is not None else "-") + "]"
+    return f"[{interval_text(lo, hi)}]"
 
 
 def comparison_text(a: Folder, b: Folder, rows: Sequence[dict[str, Any]]) -> str:

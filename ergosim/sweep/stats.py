@@ -35,13 +35,13 @@ import numpy as np
 import pyarrow as pa
 from scipy import stats
 
-from ergosim.experiment.summary import wilcoxon_between
+from ergosim.experiment.summary import wilcoxon_between, wilcoxon_min_p
 from ergosim.sweep.metrics import from_calibration, metric_range, share_trials
 from ergosim.sweep.tables import param_type, param_value
 
-__all__ = ["mean_ci", "share_ci", "metric_ci", "wilson_interval", "wilcoxon_min_p", "paired_difference",
-           "unpaired_difference", "cell_statistics", "counted", "CONFIDENCE", "SMALL_N", "STAT_SUFFIXES",
-           "DIFF_SUFFIXES"]
+__all__ = ["interval_text", "round_off", "mean_ci", "share_ci", "metric_ci", "wilson_interval",
+           "wilcoxon_min_p", "paired_difference", "unpaired_difference", "cell_statistics", "counted",
+           "CONFIDENCE", "SMALL_N", "STAT_SUFFIXES", "DIFF_SUFFIXES"]
 
 CONFIDENCE = 0.95
 SMALL_N = 6
@@ -134,12 +134,6 @@ def _difference_bounds(metric: str | None) -> tuple[float | None, float | None]:
         return None, None
     low, high = metric_range(metric)
     return (None, None) if high is None else (low - high, high - low)
-
-
-def wilcoxon_min_p(n: int) -> float:
-    """The smallest two-sided p a Wilcoxon signed-rank test can give with ``n`` non-zero differences:
-    every difference of one sign, probability 2 / 2ⁿ under the null (exact distribution)."""
-    return 1.0 if n <= 0 else min(1.0, 2.0 / 2.0**n)
 
 
 def paired_difference(a: Sequence[float | None], b: Sequence[float | None], metric: str | None = None
@@ -254,3 +248,23 @@ def cell_statistics(sweep, rows: Sequence[Mapping[str, Any]], complete_cells: se
                 for k in DIFF_SUFFIXES:
                     data[f"{m}.{k}"].append(d[k])
     return pa.table(data, schema=pa.schema(fields))
+
+
+ROUND_OFF = 1e-9
+"""A figure smaller than this fraction of the largest it is printed with (or than 1e-12 itself) is float
+round-off, printed as 0 (assumed: the metrics carry far fewer significant digits, a t interval bound of
+5.55e-17 is an exact 0 that lost its last bits)."""
+
+
+def round_off(x: float, scale: float) -> float:
+    """``x``, or 0.0 when it is round-off (:data:`ROUND_OFF`) among figures of magnitude ``scale``."""
+    return 0.0 if abs(x) <= max(ROUND_OFF * abs(scale), 1e-12) else x
+
+
+def interval_text(lo: float | None, hi: float | None, mean: float | None = None, digits: int = 3) -> str:
+    """``"lo, hi"`` to ``digits`` significant digits, round-off as 0 (:func:`round_off`); ``mean`` only
+    sets the scale with them."""
+    if lo is None or hi is None:
+        return "-"
+    scale = max(abs(lo), abs(hi), abs(mean or 0.0))
+    return ", ".join(f"{round_off(x, scale):.{digits}g}" for x in (lo, hi))

@@ -11,10 +11,12 @@
   ``robot_failures``, ``worker_failures``, ... and ``rula_g.<a>``; null where the unit failed.
 
 A unit not finished yet has no row. ``allocations.parquet`` has one row per attempt of every finished unit
-(``unit``, ``cell``, ``subject``, ``seed``, ``mode`` and the attempt's columns of ``allocations.csv``): a
-run output with a ``unit_table`` (:data:`~ergosim.experiment.outputs.OUTPUTS`) becomes ``<name>.parquet``
-through :func:`unit_rows_table`. Both are
-written atomically; the same finished units give the same rows whichever executor ran them.
+(``unit``, ``cell``, ``subject``, ``seed``, ``mode`` and the attempt's columns of ``allocations.csv``), and
+``failures.parquet`` one row per failed attempt or abandoned repetition with its message (``time``,
+``repetition``, ``action``, ``agent``, ``status`` such as ``failed:unreachable``, and ``message``, the
+failure in words, as ``failures.csv``): a run output with a ``unit_table``
+(:data:`~ergosim.experiment.outputs.OUTPUTS`) becomes ``<name>.parquet`` through :func:`unit_rows_table`.
+All are written atomically; the same finished units give the same rows whichever executor ran them.
 """
 
 from __future__ import annotations

@@ -18,7 +18,8 @@ import numpy as np
 
 from ergosim.experiment.plots.style import mode_colour, plt
 from ergosim.experiment.plots.tables import SubjectRow
-from ergosim.experiment.summary import wilcoxon_between
+from ergosim.experiment.summary import too_few_pairs, wilcoxon_between
+from ergosim.experiment.summary_text import too_few_words
 
 __all__ = ["modes_figure", "paired_tests"]
 
@@ -49,6 +50,8 @@ def _paired(order: Sequence[str], by: Mapping[tuple[str, int], float], metric: s
 
 
 def _p_text(a: str, b: str, test: dict) -> str:
+    if too_few_pairs(test["n"]):
+        return f"{a} vs {b}: no test,\n{too_few_words(test['n'])}"
     if test["p"] is None:
         return f"{a} vs {b}: no test (n = {test['n']})"
     return f"{a} vs {b}: Wilcoxon W = {test['statistic']:g}, p = {test['p']:.2g}, n = {test['n']}"
