@@ -26,8 +26,8 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from ergosim.experiment.protocol import ScenarioConfig
 from ergosim.experiment.frames import Frames, run_frames
+from ergosim.experiment.protocol import ScenarioConfig
 from ergosim.experiment.scenario import (
     Scenario,
     load_scenario,
