@@ -80,8 +80,7 @@ def main() -> int:
     first = next(r for r in run.allocations if r.action == "a1")
     cell = subject_cell(scenario, scenario_subject(scenario, 0, a.seed))
     image = render_still(cell, run, first.t_start + 0.45 * (first.t_end - first.t_start),
-                         header="multi-subject, HRC, subject 0: a1, the worker turns and steps to the side "
-                                "table")
+                         header="multi-subject, HRC, subject 0: a1, the worker turns to the side table for J")
     path = a.out / "worker_video_frame.png"
     Image.fromarray(image).save(path)
     print(f"wrote {path}")
