@@ -1,20 +1,23 @@
 """Modules of another git revision of this repository, loaded beside this checkout's: the side-by-side
 benchmarks (``--baseline REV`` of ``scripts/bench_planner.py --lookahead`` and ``scripts/bench_ik.py``) time
 the old and the new code in one process, call by call, so that both see the same machine load (the only fair
-speed ratio on a shared machine)."""
+speed ratio on a shared machine). :func:`tree_at` copies a folder of files as another revision has them (the
+models, for ``scripts/bench_video.py --baseline``)."""
 
 from __future__ import annotations
 
+import io
 import re
 import subprocess
 import sys
+import tarfile
 import types
 from collections.abc import Sequence
 from pathlib import Path
 
 from ergosim.errors import ConfigError
 
-__all__ = ["modules_at"]
+__all__ = ["modules_at", "tree_at"]
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -46,3 +49,20 @@ def modules_at(rev: str, package: str, names: Sequence[str]) -> dict[str, types.
         exec(compile(src, f"{rev}:{path}", "exec"), mod.__dict__)  # noqa: S102 - our own code, at rev
         mods[m] = mod
     return mods
+
+
+def tree_at(rev: str, folder: str, dest: str | Path) -> Path:
+    """Write ``folder`` of the repository (e.g. ``"models"``) as git revision ``rev`` has it under ``dest``;
+    returns ``dest / folder``.
+
+    Raises:
+        ConfigError: ``rev`` is not a revision of the repository, or has no ``folder``.
+    """
+    out = subprocess.run(["git", "-C", str(ROOT), "archive", "--format=tar", rev, folder], check=False,
+                         capture_output=True)
+    if out.returncode:
+        raise ConfigError(f"cannot read {folder}/ at revision {rev!r}: {out.stderr.decode().strip()}",
+                          where="--baseline")
+    with tarfile.open(fileobj=io.BytesIO(out.stdout)) as tar:
+        tar.extractall(dest, filter="data")
+    return Path(dest) / folder

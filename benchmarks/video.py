@@ -16,6 +16,7 @@ from pathlib import Path
 
 from ergosim.scenes.workcell import Workcell
 from ergosim.twin.records import SubjectRun
+from ergosim.video.frames import RenderQuality
 from ergosim.video.run_video import VideoRequest, write_run_video
 
 __all__ = ["time_video", "compare_workers"]
@@ -27,11 +28,11 @@ def _cpu() -> float:
 
 
 def time_video(cell: Workcell, run: SubjectRun, request: VideoRequest, window: tuple[float, float],
-               workers: int) -> dict:
+               workers: int, quality: RenderQuality = RenderQuality()) -> dict:
     """Film ``window`` of ``run``; returns frames, wall and CPU [s] (CPU of workers and encoder once they
     ended), and the stage times of :class:`~ergosim.video.run_video.VideoStats`."""
     c0, w0 = _cpu(), time.perf_counter()
-    st = write_run_video(cell, run, request, window=window, workers=workers)
+    st = write_run_video(cell, run, request, window=window, workers=workers, quality=quality)
     return {"frames": st.frames, "wall_s": time.perf_counter() - w0, "cpu_s": _cpu() - c0,
             "render_s": st.render_s, "overlay_s": st.overlay_s, "encode_s": st.encode_s}
 
@@ -42,17 +43,19 @@ def _in_child(conn, *args) -> None:
 
 
 def compare_workers(cell: Workcell, run: SubjectRun, folder: Path, window: tuple[float, float],
-                    size: tuple[int, int], speed: float, workers: int, tag: str = "") -> dict:
+                    size: tuple[int, int], speed: float, workers: int, tag: str = "",
+                    quality: RenderQuality = RenderQuality()) -> dict:
     """One film with ``workers`` processes here and one rendered in one process (in a forked child), and
     whether the two MP4 files are byte-identical: ``{"pool": {...}, "single": {...}, "identical": bool}``."""
     paths = {k: Path(folder) / f"{k}{tag}.mp4" for k in ("pool", "single")}
     requests = {k: VideoRequest(p, width=size[0], height=size[1], speed=speed) for k, p in paths.items()}
     ctx = multiprocessing.get_context("fork")
     ours, theirs = ctx.Pipe()
-    child = ctx.Process(target=_in_child, args=(theirs, cell, run, requests["single"], window, 0))
+    child = ctx.Process(target=_in_child, args=(theirs, cell, run, requests["single"], window, 0,
+                                                      quality))
     child.start()
     single = ours.recv()
     child.join()
-    pool = time_video(cell, run, requests["pool"], window, workers)
+    pool = time_video(cell, run, requests["pool"], window, workers, quality)
     return {"pool": pool, "single": single,
             "identical": filecmp.cmp(paths["pool"], paths["single"], shallow=False)}

@@ -5,8 +5,8 @@
 ``--reps 10`` times a whole subject's run (robot actions included) instead of the first repetition.
 ``--video`` also measures ``ergosim run --video``: ms per frame (wall and CPU) with worker processes and,
 side by side, in one process, on 10 s of a recorded repetition at 960x540, 30 fps; whether the two MP4s
-are byte-identical; and what keeping the body poses adds to the simulation. Target (issue 28): <= 40 ms
-per frame of wall time on 2 cores.
+are byte-identical; and what keeping the body poses adds to the simulation. Target (issues 28, 38): <= 40
+ms per frame of wall time on 2 cores; ``scripts/bench_video.py --baseline REV`` compares two revisions.
 
 Targets (issue 6/7): real-time factor >= 75x; overhead ratio <= 2; recording adds <= 50 %;
 the full multi-subject run (240 repetitions) under 180 s on 2 cores.

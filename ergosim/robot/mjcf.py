@@ -8,7 +8,8 @@ link frames and pinocchio on the same URDF gives the same forward kinematics.
 
 Assets: every collision mesh is copied (``<stem>.stl``); every COLLADA visual is converted
 (:mod:`ergosim.robot.collada`) into one OBJ per colour (``<stem>_<k>.obj``) with a material of that
-colour, so the ``visual`` class shows the real visual meshes and the ``collision`` class the coarse ones.
+colour (decimated when the recipe says so, :mod:`ergosim.robot.decimate`), so the ``visual`` class shows the
+real visual meshes and the ``collision`` class the coarse ones.
 The MJCF names files relative to ``meshdir="assets"``, so the folder opens in plain MuJoCo.
 """
 
@@ -23,6 +24,7 @@ import numpy as np
 from ergosim import quat
 from ergosim.robot.assets import resolve_url
 from ergosim.robot.collada import ColouredMesh, read_collada
+from ergosim.robot.decimate import decimate
 from ergosim.robot.urdf import Joint, Link, Origin, Shape, Urdf
 
 __all__ = ["ArmActuation", "GripperActuation", "MjcfRecipe", "RobotFiles", "robot_mjcf", "obj_bytes"]
@@ -60,7 +62,9 @@ class MjcfRecipe:
     their position actuators, in order; ``sites``: massless URDF leaf links -> site names (the TCP);
     ``home``: the arm's ``home`` keyframe [rad], fingers open; ``finger_links``: links whose box collision
     geoms are finger pads (class ``fingertip``); ``skip_links``: massless links whose geoms are dropped
-    (e.g. a 1 cm marker box); ``timestep`` [s].
+    (e.g. a 1 cm marker box); ``timestep`` [s]; ``visual_keep``: the fraction of each COLLADA visual part's
+    triangles kept (:func:`~ergosim.robot.decimate.decimate`; 1 keeps them all), parts of up to
+    ``visual_floor`` triangles kept whole. Collision meshes are always copied unchanged.
     """
 
     name: str
@@ -75,6 +79,8 @@ class MjcfRecipe:
     skip_links: tuple[str, ...] = ()
     timestep: float = 0.002
     fallback_rgba: tuple[float, float, float, float] = (0.8, 0.8, 0.8, 1.0)
+    visual_keep: float = 1.0
+    visual_floor: int = 200
 
 
 @dataclass(frozen=True, eq=False)
@@ -154,7 +160,9 @@ class _Builder:
             mat = self.material(self.recipe.fallback_rgba)
             return [f'{pad}<geom class="visual" mesh="{mesh}" material="{mat}"{attrs}/>']
         out = []
-        for k, part in enumerate(read_collada(path)):
+        r = self.recipe
+        for k, read in enumerate(read_collada(path)):
+            part = decimate(read, r.visual_keep, r.visual_floor) if r.visual_keep < 1.0 else read
             mesh = self.mesh(f"{s.mesh}_{k}", f"{s.mesh}_{k}.obj", obj_bytes(part))
             mat = self.material(part.rgba)
             out.append(f'{pad}<geom class="visual" mesh="{mesh}" material="{mat}"{attrs}/>')

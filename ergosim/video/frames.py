@@ -38,9 +38,11 @@ class RenderQuality:
     """Offscreen settings, traded against time per frame on a software rasteriser (Mesa llvmpipe, 2 cores,
     960×540, measured): a 4096 px shadow map with 4× multisampling takes about 150 ms per frame, 2048 px
     with none about 65 ms. ``reflection`` off: the floor's mirror image costs a third of the frame and
-    shows nothing of the work."""
+    shows nothing of the work. ``shadow_size`` 1024 px: the light's depth map costs a quarter of 2048 px's
+    and the shadows look alike at 960×540, their edges a little coarser (issue 38, stills in
+    docs/video.md)."""
 
-    shadow_size: int = 2048
+    shadow_size: int = 1024
     multisamples: int = 0
     reflection: bool = False
 
