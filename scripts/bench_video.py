@@ -18,6 +18,8 @@ import argparse
 import json
 from pathlib import Path
 
+import _root  # noqa: F401 - the repository's root on sys.path: benchmarks/ is not installed
+
 from ergosim.atomic import write_json
 from ergosim.cli import headless_gl
 
@@ -25,11 +27,12 @@ headless_gl()  # offscreen rendering, before MuJoCo is imported
 
 from PIL import Image  # noqa: E402
 
+from benchmarks.video_baseline import baseline_cell, baseline_quality, compare_revisions, stills  # noqa: E402
 from ergosim.atomic import write_bytes  # noqa: E402
-from ergosim.experiment.runner import run_subject, scenario_subject, subject_cell  # noqa: E402
+from ergosim.experiment.runner import run_subject  # noqa: E402
 from ergosim.experiment.scenario import load_scenario  # noqa: E402
+from ergosim.experiment.subject import scenario_subject, subject_cell  # noqa: E402
 from ergosim.scenes.cellspec import View  # noqa: E402
-from ergosim.video.baseline import baseline_cell, baseline_quality, compare_revisions, stills  # noqa: E402
 from ergosim.video.frames import RenderQuality  # noqa: E402
 from ergosim.video.render_pool import default_workers  # noqa: E402
 

@@ -13,14 +13,15 @@ import numpy as np
 import pytest
 from PIL import Image
 
+from benchmarks.revision import tree_at
+from benchmarks.video_baseline import baseline_cell, baseline_quality, stills
 from ergosim.errors import ConfigError
-from ergosim.experiment.runner import run_subject, scenario_subject, subject_cell
+from ergosim.experiment.runner import run_subject
 from ergosim.experiment.scenario import load_scenario
-from ergosim.revision import tree_at
+from ergosim.experiment.subject import scenario_subject, subject_cell
 from ergosim.robot import model as robot_model
 from ergosim.scenes import build_cell
 from ergosim.video import PoseRenderer, RenderQuality, VideoRequest, read_mp4, write_run_video
-from ergosim.video.baseline import baseline_cell, baseline_quality, stills
 
 ROOT = Path(__file__).resolve().parents[1]
 BEFORE = "6df92f7"

@@ -20,12 +20,12 @@ from pathlib import Path
 
 import numpy as np
 
-from ergosim.revision import modules_at, tree_at
+from benchmarks.revision import modules_at, tree_at
 from ergosim.robot import model as robot_model
 from ergosim.scenes.cellspec import View
 from ergosim.scenes.workcell import Workcell
 from ergosim.twin.records import SubjectRun
-from ergosim.video.benchmark import compare_workers
+from benchmarks.video import compare_workers
 from ergosim.video.frames import RenderQuality, gl_used
 from ergosim.video.poses import PoseTrack
 from ergosim.video.render_pool import FrameSpec
@@ -74,7 +74,7 @@ def compare_revisions(films: dict[str, tuple[Workcell, RenderQuality]], run: Sub
                       window: tuple[float, float], size: tuple[int, int], speed: float, workers: int) -> dict:
     """Film ``window`` of ``run`` with each (cell, quality) of ``films`` (e.g. ``current`` and ``baseline``),
     ``repeats`` times, in turn within each repeat (the order reversed every other repeat); each film is made
-    with ``workers`` processes and in one process (:func:`~ergosim.video.benchmark.compare_workers`).
+    with ``workers`` processes and in one process (:func:`~benchmarks.video.compare_workers`).
     Returns per name the medians over repeats of ms per frame (wall and CPU), and the load average (1 min)
     before and after each repeat. With ``current`` and ``baseline``, ``speedup``: the median over repeats of
     the baseline's wall time over the current one's (both with ``workers`` processes).
