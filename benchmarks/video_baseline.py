@@ -21,11 +21,11 @@ from pathlib import Path
 import numpy as np
 
 from benchmarks.revision import modules_at, tree_at
+from benchmarks.video import compare_workers
 from ergosim.robot import model as robot_model
 from ergosim.scenes.cellspec import View
 from ergosim.scenes.workcell import Workcell
 from ergosim.twin.records import SubjectRun
-from benchmarks.video import compare_workers
 from ergosim.video.frames import RenderQuality, gl_used
 from ergosim.video.poses import PoseTrack
 from ergosim.video.render_pool import FrameSpec

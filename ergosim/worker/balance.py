@@ -12,8 +12,9 @@ stance's frame (x along the feet, y to the left):
   midline (the model's feet) plus half the foot's width, 0.055 H (Drillis & Contini).
 
 :class:`BalanceLimit` is a mink limit: the centre of mass's linearised motion may not carry it closer to an
-edge than :data:`BALANCE_MARGIN`. :func:`support_margin` measures a posture: the distance from the centre
-of mass's projection to the nearest edge [m], negative outside.
+edge than :data:`BALANCE_MARGIN`. :meth:`SupportPolygon.margin` measures a posture: the distance from the
+centre of mass's projection to the nearest edge [m], negative outside; :func:`rebalance` brings the frames of
+a motion that stray outside back in.
 """
 
 from __future__ import annotations
@@ -24,7 +25,7 @@ import numpy as np
 
 from ergosim.human.model import ROOT_BODY
 
-__all__ = ["BALANCE_MARGIN", "FOOT_WIDTH", "SupportPolygon", "BalanceLimit", "support_margin", "rebalance"]
+__all__ = ["BALANCE_MARGIN", "FOOT_WIDTH", "SupportPolygon", "BalanceLimit", "rebalance"]
 
 BALANCE_MARGIN = 0.02
 """m the centre of mass keeps from the edge of the base of support (assumed: a small static margin for a
@@ -90,12 +91,6 @@ class BalanceLimit(mink.Limit):
         g = np.vstack([jac, -jac])
         h = np.concatenate([hi - com, com - lo])
         return mink.Constraint(G=g, h=h)
-
-
-def support_margin(model: mujoco.MjModel, data: mujoco.MjData, polygon: SupportPolygon) -> float:
-    """:meth:`SupportPolygon.margin` after ``mj_comPos`` (the kinematics must be current)."""
-    mujoco.mj_comPos(model, data)
-    return polygon.margin(data)
 
 
 def rebalance(ik, bodies: np.ndarray, iterations: int = 6) -> np.ndarray:

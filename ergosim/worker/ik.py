@@ -9,13 +9,14 @@ furniture. It is mink's differential IK (a QP per iteration through daqp) iterat
     min_dq  |J_hand dq + e_hand|^2_W + sum_j ((q_j + dq_j - pref_j) / s_j)^2 + |comfort excess|^2 / s_c^2
             + |gaze excess beyond the eyes' zone|^2 / s_g^2
     s.t.    joint ranges (mink ConfigurationLimit), the centre of mass inside the base of support
-            (:class:`~ergosim.worker.balance.BalanceLimit`), segment-to-furniture distances >= 0 (mink
-            CollisionAvoidanceLimit), the legs following the knee and the ankle
+            (:class:`~ergosim.worker.balance.BalanceLimit`), the legs following the knee and the ankle
             (:class:`~ergosim.worker.ik_tasks.LegCoupling`), the stance frozen
             (mink DofFreezingTask),
 
 with the hand task stiff (2 mm, 2 deg), so the priors (:mod:`ergosim.worker.ik_prior`) act in its null
-space and a target beyond reach ends at the best approach. Each accepted step lowers the whole cost (a
+space and a target beyond reach ends at the best approach. A posture that passes through the cell's
+furniture is solved again from there with a stiffer task still, each segment's shortfall from the furniture
+(:class:`~ergosim.worker.obstacles.ClearanceTask`). Each accepted step lowers the whole cost (a
 halving line search, mink's steps being Gauss-Newton steps of it).
 
 Bodies are (27,) vectors in :data:`~ergosim.worker.ik_prior.BODY` order at the interface (degrees, metres
@@ -40,7 +41,7 @@ from ergosim.posture import ARM, HUMAN_JOINTS, STANCE
 from ergosim.worker.balance import BalanceLimit, SupportPolygon
 from ergosim.worker.ik_prior import BODY, IKPrior, default_prior
 from ergosim.worker.ik_tasks import ComfortTask, GazeTask, LegCoupling
-from ergosim.worker.obstacles import ClearanceLimit, ClearanceTask, IKModel, clearance
+from ergosim.worker.obstacles import ClearanceTask, IKModel, clearance
 
 __all__ = ["IKSolution", "WholeBodyIK", "log_so3"]
 
@@ -139,7 +140,6 @@ class WholeBodyIK:
         self.segments, self.obstacles, self.forearms = tuple(segments), tuple(obstacles), tuple(forearms)
         if self.segments and self.obstacles:
             built = IKModel(model, self.segments, self.obstacles, self.forearms)
-            self.limits.append(ClearanceLimit(model, built))
             self.clear_task = ClearanceTask(model, built)
         self.hand_task = {side: mink.FrameTask(h.model.site(h.hand_site[side]).name, "site",
                                                position_cost=1.0 / pos_tol, orientation_cost=0.0)
@@ -235,9 +235,9 @@ class WholeBodyIK:
         constraints = [self._freeze, self.legs]
         max_iter = max_iter or self.max_iter
         self._fk(self.qpos(np.asarray(q0, dtype=float)))
-        it = self._descend(tasks, constraints, self.limits[:2], max_iter)
+        it = self._descend(tasks, constraints, max_iter)
         if collide and self.obstacles and self.clearance() < 0.0:
-            it += self._descend(tasks + [self.clear_task], constraints, self.limits[:2], max_iter, clear=True)
+            it += self._descend(tasks + [self.clear_task], constraints, max_iter, clear=True)
         _, posture_cost = self._cost(tasks)
         pos_err, rot_err = self._errors(side, target, target_rot)
         return IKSolution(self.to_body(self.data.qpos), pos_err, rot_err, it, posture_cost)
@@ -255,17 +255,14 @@ class WholeBodyIK:
             cost += _THROUGH_PRICE * min(self.clearance(), 0.0) ** 2
         return cost
 
-    def _descend(self, tasks: list[mink.Task], constraints: list[mink.Task], limits: list[mink.Limit],
-                 max_iter: int, clear: bool = False) -> int:
+    def _descend(self, tasks: list[mink.Task], constraints: list[mink.Task], max_iter: int,
+                 clear: bool = False) -> int:
         """Iterate mink steps from the current configuration until the cost stops falling; the
         iterations."""
         c0 = self._merit(tasks, clear)
         it = 0
         for it in range(1, max_iter + 1):
-            result = self._step(tasks, constraints, limits)
-            if not result.found and len(limits) > 2:
-                # a start deep inside an obstacle can make the QP infeasible: step without the furniture
-                result = self._step(tasks, constraints, limits[:2])
+            result = self._step(tasks, constraints)
             if not result.found:
                 break
             step = result.x * min(1.0, _STEP_MAX / max(float(np.abs(result.x).max()), 1e-12))
@@ -294,9 +291,8 @@ class WholeBodyIK:
                 break
         return it
 
-    def _step(self, tasks: list[mink.Task], constraints: list[mink.Task],
-              limits: list[mink.Limit]) -> qpsolvers.Solution:
-        problem = mink.build_ik(self.config, tasks, 1.0, _DAMPING, limits, constraints)
+    def _step(self, tasks: list[mink.Task], constraints: list[mink.Task]) -> qpsolvers.Solution:
+        problem = mink.build_ik(self.config, tasks, 1.0, _DAMPING, self.limits, constraints)
         return qpsolvers.solve_problem(problem, solver="daqp")
 
     def _snap_legs(self, qpos: np.ndarray) -> None:
