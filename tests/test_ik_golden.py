@@ -45,7 +45,7 @@ GOLDEN = {  # (iterations, pos_error, rot_error_deg, cost, digest of the body): 
     'grip_6d_turned':
         (25, '0x1.5bc06fbca08aep-13', '0x1.95a42233370acp-1', '0x1.3e1ec0085f7dfp+5', 'd37604d03c9cdbe3'),
     'low':
-        (70, '0x1.832279a455619p-7', '0x0.0p+0', '0x1.34d03d3544775p+4', '35c46cef077c32f4'),
+        (70, '0x1.3702ce7aad140p-14', '0x0.0p+0', '0x1.956fe657cf23dp+3', '2d8bbb290e5e88d0'),
     'out_of_reach':
         (60, '0x1.518727bc2ce39p-5', '0x0.0p+0', '0x1.05a5b7a595ba0p+7', '7e7c066f6b0a4145'),
     'over_the_bench':

@@ -51,6 +51,9 @@ _STEP_MAX = 0.2  # rad (or m) per variable and iteration
 _TOL_STEP = 1e-4
 _TOL_COST = 1e-6  # converged when an iteration lowers the cost by less than this fraction
 _DAMPING = 1e-6
+GIVE_WAY = 0.01
+"""m the hand may leave its target for the body to clear the furniture; a clear posture farther off is not
+taken (assumed: within the grasp tolerances of the cells, 2 cm)."""
 _THROUGH_PRICE = 1e6  # per m^2 of passing through the furniture, in the descent's merit
 COM_SIGMA = 0.05
 """m the centre of mass strays from the middle of the feet for one unit of cost (assumed: a standing person
@@ -237,7 +240,13 @@ class WholeBodyIK:
         self._fk(self.qpos(np.asarray(q0, dtype=float)))
         it = self._descend(tasks, constraints, max_iter)
         if collide and self.obstacles and self.clearance() < 0.0:
+            reached = self.data.qpos.copy()
+            error = self._errors(side, target, target_rot)[0]
             it += self._descend(tasks + [self.clear_task], constraints, max_iter, clear=True)
+            if self._errors(side, target, target_rot)[0] > max(error, GIVE_WAY):
+                # clearing the furniture would take the hand off its target: a worker presses the
+                # forearm on the edge rather than miss the part
+                self._fk(reached)
         _, posture_cost = self._cost(tasks)
         pos_err, rot_err = self._errors(side, target, target_rot)
         return IKSolution(self.to_body(self.data.qpos), pos_err, rot_err, it, posture_cost)
