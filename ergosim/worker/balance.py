@@ -93,12 +93,13 @@ class BalanceLimit(mink.Limit):
         return mink.Constraint(G=g, h=h)
 
 
-def rebalance(ik, bodies: np.ndarray, iterations: int = 6) -> np.ndarray:
+def rebalance(ik, bodies: np.ndarray, iterations: int = 6) -> tuple[np.ndarray, np.ndarray]:
     """``bodies`` (n, 27) with every frame out of balance brought back over the feet by the shanks' lean
     (the ankle, which moves the hips forward or back with the knees as they are): a standing person shifts
     the hips to keep the centre of mass over the feet throughout a movement, not only at its key postures.
     A transition between two balanced postures in joint space need not be balanced; this is the correction
-    (a few Newton steps on the ankle per frame, :data:`BALANCE_MARGIN` inside the base of support)."""
+    (a few Newton steps on the ankle per frame, :data:`BALANCE_MARGIN` inside the base of support).
+    Returns the bodies and their (n,) balance margins [m]."""
     out = np.array(bodies, dtype=float)
     margins = ik.balance_path(out)
     ankle = out.shape[1] - 1
@@ -115,7 +116,10 @@ def rebalance(ik, bodies: np.ndarray, iterations: int = 6) -> np.ndarray:
             if abs(slope) < 1e-6:
                 break
             out[k, ankle] = float(np.clip(out[k, ankle] + (bound - x0) / slope, lo, hi))
-    return out
+    moved = np.flatnonzero(margins < 0.0)
+    if moved.size:
+        margins[moved] = ik.balance_path(out[moved])
+    return out, margins
 
 
 def _com_x(ik, body: np.ndarray) -> tuple[float, float | None]:

@@ -244,9 +244,9 @@ class Worker:
             t = np.append(t, key_t[-1])  # end exactly at rest
         body = interpolate_keyframes(key_t, bodies, t)
         body = clear_transitions(ik, key_t, bodies, t, body, range(len(bodies) - 1), self.side, prior, built)
-        body = rebalance(ik, body)
+        body, balance = rebalance(ik, body)
         hand_world = ik.hand_path(body, self.side) @ r_frame.T + origin
-        balance, clear = self._measures(ik, body, built)
+        clear = self._clearances(ik, body, built)
         kind_name = "fasten" if getattr(geometry, "turn_time", 0.0) else "insert" if seats else "place"
         phases = (
             Phase("reach", 0.0, key_t[2]),
@@ -265,17 +265,15 @@ class Worker:
         )
 
     @staticmethod
-    def _measures(ik: WholeBodyIK, body: np.ndarray,
-                  built: IKModel | None) -> tuple[np.ndarray, np.ndarray | None]:
-        """(n,) centre-of-mass margins [m] and (n,) clearances from the furniture [m] (None without any)."""
-        balance = ik.balance_path(body)
+    def _clearances(ik: WholeBodyIK, body: np.ndarray, built: IKModel | None) -> np.ndarray | None:
+        """(n,) clearances of the body from the furniture [m] (None without any)."""
         if built is None:
-            return balance, None
+            return None
         out = np.empty(len(body))
         for k, b in enumerate(body):
             ik._fk(ik.qpos(b))
             out[k] = clearance(ik.model, ik.data, built.segments, built.obstacles, built.forearms)
-        return balance, out
+        return out
 
     def rest_motion(self, duration: float) -> ActionMotion:
         """The rest posture held for ``duration`` [s] on the worker's spot (no part, no phases)."""

@@ -68,9 +68,13 @@ def clearance(model: mujoco.MjModel, data: mujoco.MjData, segments: Iterable[int
     fromto = np.zeros(6)
     obstacles = tuple(obstacles)
     soft = set(forearms)
+    pos, rbound = data.geom_xpos, model.geom_rbound
     for g in segments:
         allow = FOREARM_CONTACT if g in soft else 0.0
         for o in obstacles:
+            # bounding spheres farther apart than the range cannot come closer: skip the exact distance
+            if np.linalg.norm(pos[g] - pos[o]) - rbound[g] - rbound[o] + allow >= best:
+                continue
             best = min(best, allow + mujoco.mj_geomDistance(model, data, g, o, CLEARANCE_RANGE, fromto))
     return float(best)
 
