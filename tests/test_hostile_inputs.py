@@ -177,10 +177,11 @@ def test_failed_robot_attempts_do_not_count_as_robot_actions(tmp_path, monkeypat
 @pytest.mark.slow
 def test_a_run_with_an_abandoned_repetition_exits_3_and_says_why(tmp_path, capsys):
     out = tmp_path / "l"
-    # the shortest worker of the shelf study (seed 3, 1.50 m) and J on a 1.60 m ledge: the check before any
-    # physics takes the cell's nominal stature, the run finds this worker cannot reach J (docs/sweeps.md)
+    # the shortest worker of the shelf study (seed 3, 1.50 m) and J on a 1.75 m ledge: the check before any
+    # physics takes the cell's nominal stature (its hand gets to J within 1 cm), the run finds this worker's
+    # hand 7 cm short of J (beyond the 2 cm grasp tolerance)
     code = main(["run", "kwear-validation", "--seed", "3", "--subjects", "1", "--reps", "2", "--mode",
-                 "h-only", "--jobs", "1", "--quiet", "--set", "scene.shelf_height=1.6", "--out", str(out)])
+                 "h-only", "--jobs", "1", "--quiet", "--set", "scene.shelf_height=1.75", "--out", str(out)])
     printed = capsys.readouterr()
     assert code == 3
     summary = _valid_outputs(out)
