@@ -16,6 +16,7 @@ from ergosim.quat import from_yaw_deg
 from ergosim.scenes import build_cell
 from ergosim.scenes.cellfile import parse_cell
 from ergosim.scenes.cellspec import Shelf, Table
+from ergosim.scenes.export import export_cell
 from ergosim.worker import Worker, make_subjects
 from ergosim.worker.stance import area_of_cell
 
@@ -263,3 +264,23 @@ def test_the_workers_obstacles_turn_with_the_furniture(tmp_path):
     x, y = _turn(-20.0, 0.62 - origin[0], 0.0 - origin[1])
     np.testing.assert_allclose(obstacle.pos[:2], (x, y), atol=1e-9)
     np.testing.assert_allclose(obstacle.size, (0.32, 0.5, 0.02), atol=1e-12)
+
+
+def test_a_point_is_clamped_onto_a_turned_surface_in_its_own_frame():
+    """Surface.clamp (the sensitivity study's moved parts): onto the turned footprint, not its world box."""
+    bench = Table("bench", (0.0, 0.0), (1.0, 0.2), 0.9, yaw=90.0).surfaces()[0]
+    x, y = bench.clamp((0.4, 0.3), margin=0.05)
+    np.testing.assert_allclose((x, y), (0.05, 0.3), atol=1e-12)
+    assert bench.contains((x, y), margin=0.05 - 1e-9)
+    flat = Table("flat", (0.0, 0.0), (1.0, 0.2), 0.9).surfaces()[0]
+    assert flat.clamp((0.7, 0.3), margin=0.05) == (0.45, 0.05)
+
+
+def test_an_obj_part_exports_inside_the_mjcf(tmp_path):
+    """ergosim export: a mesh given by its vertices is written into the MJCF, which loads in plain MuJoCo."""
+    write_obj(tmp_path / "block.obj")
+    mesh = f'shape = "mesh"\nfile = "{tmp_path / "block.obj"}"\nsize = [0.04, 0.04, 0.03]'
+    written = export_cell(_cell(tmp_path, _BOX_PART, mesh), tmp_path / "out")
+    assert not any(name.startswith("base_mesh") for name in written.assets)  # not a file in assets/
+    m = mujoco.MjModel.from_xml_path(str(written.path))
+    assert m.mesh_facenum[m.mesh("base_mesh").id] == 12

@@ -21,8 +21,9 @@ from ergosim.quat import from_yaw_deg
 from ergosim.robot.handle import RobotHandle
 from ergosim.robot.model import compile_spec, robot_spec
 from ergosim.robot.robot_model import RobotModel
-from ergosim.scenes.cellspec import Surface, Worker, turned
+from ergosim.scenes.cellspec import Worker
 from ergosim.scenes.park import ParkChoice, ParkRule, choose_park, robot_geoms
+from ergosim.scenes.surface import Surface, turned
 
 __all__ = ["weld_name", "seat_name", "receive_name", "new_spec", "add_table", "add_box",
            "attach_robot", "attach_human", "add_welds", "human_hand_bodies", "finish", "quiet_attach"]

@@ -15,9 +15,10 @@ from ergosim.robot.handle import robot_prefix
 from ergosim.robot.robot_model import get_robot
 from ergosim.scenes import build
 from ergosim.scenes.action_kinds import action_kind
-from ergosim.scenes.cellspec import Box, CellSpec, Shelf, Surface, Table, turned
+from ergosim.scenes.cellspec import Box, CellSpec, Shelf, Table
 from ergosim.scenes.clearance import check_clearance
 from ergosim.scenes.shapes import add_part_body
+from ergosim.scenes.surface import Surface, turned
 from ergosim.scenes.workcell import ActionGeometry, Workcell
 
 __all__ = ["build_cell", "cell_mjspec", "seat_site", "present_site", "action_geometry", "PRESENT_STANDOFF"]

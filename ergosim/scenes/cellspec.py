@@ -9,7 +9,6 @@ Parsing and every check that needs no physics live in :mod:`ergosim.scenes.cellf
 from __future__ import annotations
 
 import dataclasses
-import math
 from typing import Literal
 
 import numpy as np
@@ -17,48 +16,14 @@ import numpy as np
 from ergosim.errors import ConfigError
 from ergosim.robot.ssm import SSMParams
 from ergosim.scenes.action_kinds import ACTION_KINDS
+from ergosim.scenes.surface import Surface, turned
 
 __all__ = ["Surface", "Table", "Shelf", "Box", "Slot", "Part", "Target", "Worker", "Robot", "Action", "View",
-           "CellSpec", "ACTION_KINDS", "SHAPES", "Furniture", "SHELF_BACKS", "turned"]
+           "CellSpec", "ACTION_KINDS", "SHAPES", "Furniture", "SHELF_BACKS"]
 
 SHAPES = ("box", "cylinder", "mesh", "socket_block")
 SHELF_BACKS = ("-y", "+y", "-x", "+x")
 """The sides of its own frame a shelf's top ledge may stand against (``back``)."""
-
-
-@dataclasses.dataclass(frozen=True)
-class Surface:
-    """A horizontal support: centre (x, y) [m], size (along its own x, along its own y) [m], top height [m],
-    turned by ``yaw`` [deg] about its centre."""
-
-    name: str
-    center: tuple[float, float]
-    size: tuple[float, float]
-    height: float
-    yaw: float = 0.0
-
-    def local(self, xy) -> tuple[float, float]:
-        """The world point ``xy`` [m] in the surface's own frame (origin at its centre, turned by its yaw)."""
-        dx, dy = xy[0] - self.center[0], xy[1] - self.center[1]
-        if self.yaw == 0.0:
-            return dx, dy
-        c, s = math.cos(math.radians(self.yaw)), math.sin(math.radians(self.yaw))
-        return c * dx + s * dy, -s * dx + c * dy
-
-    def contains(self, xy, margin: float = 0.0) -> bool:
-        """Whether the world point ``xy`` [m] lies on the surface, at least ``margin`` [m] inside its edges
-        (measured in its own turned frame)."""
-        d = self.local(xy)
-        return all(abs(d[i]) <= self.size[i] / 2 - margin for i in range(2))
-
-
-def turned(center, offset, yaw: float) -> tuple[float, float]:
-    """The world point (x, y) [m] at ``offset`` (x, y) [m] from ``center`` in a frame turned by ``yaw``
-    [deg]."""
-    if yaw == 0.0:
-        return center[0] + offset[0], center[1] + offset[1]
-    c, s = math.cos(math.radians(yaw)), math.sin(math.radians(yaw))
-    return center[0] + c * offset[0] - s * offset[1], center[1] + s * offset[0] + c * offset[1]
 
 
 @dataclasses.dataclass(frozen=True)
