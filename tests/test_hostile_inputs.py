@@ -1054,6 +1054,50 @@ def test_a_mesh_of_199k_triangles_is_refused_at_once(tmp_path, capsys):
     assert time.monotonic() - start < 30
 
 
+_BENCH = 'size = [0.64, 1.0]\nheight = 0.9\n'
+_SHELF = ('[furniture.rack]\ntype = "shelf"\ncenter = [0.3, 0.75]\nsize = [0.5, 0.4]\nheight = 1.4\n'
+          'low_height = 0.9\ntop_depth = 0.2\n')
+
+
+@pytest.mark.parametrize(("new", "needle"), [
+    (_BENCH + 'yaw = "x"\n', "furniture.bench.yaw: yaw='x' is not a number"),
+    (_BENCH + "yaw = 1e9\n", "furniture.bench.yaw: yaw must be in [-360, 360] deg, got 1e+09"),
+    (_BENCH + "\n" + _SHELF + 'back = "up"\n',
+     "furniture.rack.back: the side the top ledge stands against is one of -y, +y, -x, +x (in the shelf's "
+     "own frame), got 'up'"),
+    (_BENCH + "\n" + _SHELF + "back = 3\n", "furniture.rack.back:"),
+])
+def test_a_bad_furniture_yaw_or_ledge_side_is_one_line(tmp_path, capsys, new, needle):
+    scenario = _bracket(tmp_path, "bracket_cell.toml", _BENCH, new)
+    _one_line_error(capsys, main(["render", str(scenario), "--out", str(tmp_path / "x.png")]),
+                    "bracket_cell.toml: ", needle)
+    assert not (tmp_path / "x.png").exists()
+
+
+@pytest.mark.parametrize(("name", "text", "needle"), [
+    ("broken.obj", "v 0 0 0\nv 1 0 0\nf 1 2 7\n", "cannot read the mesh file"),
+    ("empty.obj", "this is no mesh\n", "holds no triangles with finite vertices (is it an OBJ file?)"),
+    ("cut.stl", "solid x\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 zz\n",
+     "holds no triangles with finite vertices (is it an STL file?)"),
+    ("part.ply", "ply\n", "meshes are STL (binary or ASCII) or OBJ files, got"),
+])
+def test_a_broken_mesh_file_is_one_line(tmp_path, capsys, name, text, needle):
+    (tmp_path / name).write_text(text)
+    scenario = _bracket(tmp_path, "bracket_cell.toml", 'shape = "box"\nsize = [0.06, 0.06, 0.04]',
+                        f'shape = "mesh"\nfile = "{tmp_path / name}"\nsize = [0.06, 0.06, 0.04]')
+    _one_line_error(capsys, main(["render", str(scenario), "--out", str(tmp_path / "x.png")]),
+                    "parts.base.file: ", needle, name)
+
+
+def test_an_obj_of_too_many_faces_is_refused_before_it_is_read(tmp_path, capsys):
+    obj = tmp_path / "big.obj"
+    obj.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\n" + "f 1 2 3\n" * 60_000)
+    scenario = _bracket(tmp_path, "bracket_cell.toml", 'shape = "box"\nsize = [0.06, 0.06, 0.04]',
+                        f'shape = "mesh"\nfile = "{obj}"\nsize = [0.06, 0.06, 0.04]')
+    _one_line_error(capsys, main(["render", str(scenario), "--out", str(tmp_path / "x.png")]),
+                    "parts.base.file:", "has 60000 triangles, more than the limit of 50000")
+
+
 def test_modes_as_a_string_in_a_sweep_is_one_line(tmp_path, capsys):
     sweep = tmp_path / "s.toml"
     sweep.write_text('scenario = "kwear-validation"\nmodes = "hrc"\n[grid]\ntakt = [40.0, 45.0]\n')

@@ -68,9 +68,7 @@ def _moved_points(name: str, factor: float) -> dict[str, str]:
             nx, ny = wx + (x - wx) * factor, wy + (y - wy) * factor
             if under:
                 u = min(under, key=lambda u: -u.height)  # the top one
-                half = [max(u.size[i] / 2 - _ON_SURFACE_MARGIN, 0.0) for i in range(2)]
-                nx = min(max(nx, u.center[0] - half[0]), u.center[0] + half[0])
-                ny = min(max(ny, u.center[1] - half[1]), u.center[1] + half[1])
+                nx, ny = u.clamp((nx, ny), _ON_SURFACE_MARGIN)
             out[f"scene.{section}.{key}.xy"] = f"{nx:.4f},{ny:.4f}"
     return out
 

@@ -21,8 +21,9 @@ from ergosim.quat import from_yaw_deg
 from ergosim.robot.handle import RobotHandle
 from ergosim.robot.model import compile_spec, robot_spec
 from ergosim.robot.robot_model import RobotModel
-from ergosim.scenes.cellspec import Surface, Worker
+from ergosim.scenes.cellspec import Worker
 from ergosim.scenes.park import ParkChoice, ParkRule, choose_park, robot_geoms
+from ergosim.scenes.surface import Surface, turned
 
 __all__ = ["weld_name", "seat_name", "receive_name", "new_spec", "add_table", "add_box",
            "attach_robot", "attach_human", "add_welds", "human_hand_bodies", "finish", "quiet_attach"]
@@ -96,21 +97,28 @@ def new_spec(name: str, timestep: float) -> mujoco.MjSpec:
     return spec
 
 
-def add_box(spec: mujoco.MjSpec, name: str, center, half, rgba=METAL) -> None:
+def add_box(spec: mujoco.MjSpec, name: str, center, half, rgba=METAL, yaw: float = 0.0) -> None:
+    """A static box geom at ``center`` (3,) [m] with ``half`` sizes (3,) [m], turned by ``yaw`` [deg]
+    about z."""
+    turn = {} if yaw == 0.0 else {"quat": from_yaw_deg(yaw)}  # unturned: the model of old, bit for bit
     spec.worldbody.add_geom(name=name, type=mujoco.mjtGeom.mjGEOM_BOX, pos=list(center), size=list(half),
-                            rgba=list(rgba))
+                            rgba=list(rgba), **turn)
 
 
 def add_table(spec: mujoco.MjSpec, surface: Surface, thickness: float = 0.04, legs: bool = True,
               rgba=WOOD) -> None:
-    """A slab whose top is at ``surface.height``, on four legs down to the floor."""
-    (cx, cy), (sx, sy), h = surface.center, surface.size, surface.height
-    add_box(spec, surface.name, (cx, cy, h - thickness / 2), (sx / 2, sy / 2, thickness / 2), rgba)
+    """A slab whose top is at ``surface.height``, on four legs down to the floor, turned by the surface's
+    yaw about its centre."""
+    (cx, cy), (sx, sy), h, yaw = surface.center, surface.size, surface.height, surface.yaw
+    add_box(spec, surface.name, (cx, cy, h - thickness / 2), (sx / 2, sy / 2, thickness / 2), rgba, yaw)
     if legs:
         leg_h = (h - thickness) / 2
         for i, (dx, dy) in enumerate([(1, 1), (1, -1), (-1, 1), (-1, -1)]):
-            centre = (cx + dx * (sx / 2 - 0.03), cy + dy * (sy / 2 - 0.03), leg_h)
-            add_box(spec, f"{surface.name}_leg{i}", centre, (0.02, 0.02, leg_h))
+            if yaw == 0.0:
+                x, y = cx + dx * (sx / 2 - 0.03), cy + dy * (sy / 2 - 0.03)
+            else:
+                x, y = turned(surface.center, (dx * (sx / 2 - 0.03), dy * (sy / 2 - 0.03)), yaw)
+            add_box(spec, f"{surface.name}_leg{i}", (x, y, leg_h), (0.02, 0.02, leg_h), yaw=yaw)
 
 
 def attach_robot(spec: mujoco.MjSpec, robot: RobotModel, base, yaw: float, timestep: float,

@@ -25,11 +25,11 @@ WorkerTable = table("WorkerTable", name=S, xy=XY, yaw=F, hand=S, stature=F, huma
 RobotTable = table("RobotTable", model=S, base=XYZ, yaw=F, support=S, park_clearance=F)
 FURNITURE: dict[str, type[Table]] = {
     "table": table("TableTable", ("type",), type=S, center=XY, size=XY, height=F, thickness=F, legs=FLAG,
-                   rgba=RGBA),
+                   rgba=RGBA, yaw=F),
     "shelf": table("ShelfTable", ("type",), type=S, center=XY, size=XY, height=F, low_height=F, top_depth=F,
-                   thickness=F, rgba=RGBA),
+                   thickness=F, rgba=RGBA, yaw=F, back=S),
     "box": table("BoxTable", ("type",), type=S, center=XYZ, half=XYZ, rgba=RGBA, stand_to=S, stand_offset=XY,
-                 stand_half=XY),
+                 stand_half=XY, yaw=F),
 }
 """Furniture tables by their ``type``."""
 PartTable = table("PartTable", ("slots",), shape=S, size=XYZ, radius=F, length=F, file=S, scale=F, bore=F,

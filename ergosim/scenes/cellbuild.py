@@ -18,6 +18,7 @@ from ergosim.scenes.action_kinds import action_kind
 from ergosim.scenes.cellspec import Box, CellSpec, Shelf, Table
 from ergosim.scenes.clearance import check_clearance
 from ergosim.scenes.shapes import add_part_body
+from ergosim.scenes.surface import Surface, turned
 from ergosim.scenes.workcell import ActionGeometry, Workcell
 
 __all__ = ["build_cell", "cell_mjspec", "seat_site", "present_site", "action_geometry", "PRESENT_STANDOFF"]
@@ -62,21 +63,31 @@ def _furniture(mspec: mujoco.MjSpec, spec: CellSpec) -> None:
             top, low = f.ledges()
             build.add_table(mspec, low, thickness=f.thickness, legs=True, rgba=f.rgba)
             build.add_table(mspec, top, thickness=f.thickness, legs=False, rgba=f.rgba)
-            (cx, _), (sx, _) = top.center, top.size
-            front = top.center[1] + top.size[1] / 2 - 0.02
-            back = top.center[1] - top.size[1] / 2 + 0.02
             rise = (top.height - low.height) / 2
-            for i, (x, y) in enumerate([(cx - sx / 2 + 0.02, front), (cx + sx / 2 - 0.02, front),
-                                        (cx - sx / 2 + 0.02, back), (cx + sx / 2 - 0.02, back)]):
-                build.add_box(mspec, f"{f.name}_post{i}", (x, y, low.height + rise), (0.02, 0.02, rise))
+            for i, (x, y) in enumerate(_post_corners(top)):
+                build.add_box(mspec, f"{f.name}_post{i}", (x, y, low.height + rise), (0.02, 0.02, rise),
+                              yaw=f.yaw)
         elif isinstance(f, Box):
-            build.add_box(mspec, f.name, f.center, f.half, rgba=f.rgba)
+            build.add_box(mspec, f.name, f.center, f.half, rgba=f.rgba, yaw=f.yaw)
             if f.stand_to is not None:
                 (mx, my, mz), hz = f.center, f.half[2]
                 floor = surfaces[f.stand_to].height
                 stand = (mz - hz - floor) / 2
-                build.add_box(mspec, f"{f.name}_stand", (mx + f.stand_offset[0], my + f.stand_offset[1],
-                                                         floor + stand), (*f.stand_half, stand))
+                x, y = turned((mx, my), f.stand_offset, f.yaw)
+                build.add_box(mspec, f"{f.name}_stand", (x, y, floor + stand), (*f.stand_half, stand),
+                              yaw=f.yaw)
+
+
+def _post_corners(top: Surface) -> list[tuple[float, float]]:
+    """World (x, y) [m] of a shelf's four posts, 20 mm inside the corners of its top ledge."""
+    (cx, cy), (sx, sy) = top.center, top.size
+    if top.yaw == 0.0:  # the arithmetic of the unturned shelf, bit for bit
+        front, back = cy + sy / 2 - 0.02, cy - sy / 2 + 0.02
+        return [(cx - sx / 2 + 0.02, front), (cx + sx / 2 - 0.02, front),
+                (cx - sx / 2 + 0.02, back), (cx + sx / 2 - 0.02, back)]
+    ax, ay = sx / 2 - 0.02, sy / 2 - 0.02
+    corners = [(-1, 1), (1, 1), (-1, -1), (1, -1)]
+    return [turned(top.center, (dx * ax, dy * ay), top.yaw) for dx, dy in corners]
 
 
 def _part_pose(spec: CellSpec, part) -> tuple[list[float], list[float]]:

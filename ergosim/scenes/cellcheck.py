@@ -57,7 +57,7 @@ def check_cell(spec: CellSpec, at) -> None:
         if isinstance(f, Shelf):
             need(f.height - f.low_height >= 0.3, f"{entry}.height",
                  f"the top ledge must be >= 0.3 m above the lower one, got {f.height} and {f.low_height}")
-            need(0.1 <= f.top_depth <= f.size[1] - 0.1, f"{entry}.top_depth",
+            need(0.1 <= f.top_depth <= f.depth - 0.1, f"{entry}.top_depth",
                  f"top_depth must leave >= 0.1 m of the lower ledge open, got {f.top_depth}")
         if isinstance(f, Box):
             need(all(x > 0 for x in f.half), entry, f"half sizes must be > 0, got {f.half}")
@@ -85,8 +85,8 @@ def check_cell(spec: CellSpec, at) -> None:
                  f"the robot base at z={r.base[2]} m has nothing under it: give support = \"SURFACE\" (a "
                  "pedestal fills the gap) or stand it on the floor (z = 0)")
         for f in spec.furniture:
-            for c, h in f.boxes():
-                if np.all(np.abs(np.asarray(r.base) - c) < h - 1e-6):
+            for c, h, yaw in f.boxes():
+                if np.all(np.abs(_in_box(np.asarray(r.base, dtype=float), c, yaw)) < h - 1e-6):
                     raise ConfigError(f"the robot base {r.base} is inside furniture {f.name!r}",
                                       where=at(f"{entry}.base"))
     for p in spec.parts:
@@ -111,15 +111,49 @@ def check_cell(spec: CellSpec, at) -> None:
 
 def _check_overlaps(spec: CellSpec, at) -> None:
     """Solid furniture boxes may touch but not interpenetrate by more than 5 mm (legs ignored)."""
-    boxes = [(f.name, c, h) for f in spec.furniture for c, h in f.boxes()]
-    for i, (n1, c1, h1) in enumerate(boxes):
-        for n2, c2, h2 in boxes[i + 1:]:
+    boxes = [(f.name, c, h, yaw) for f in spec.furniture for c, h, yaw in f.boxes()]
+    for i, (n1, c1, h1, y1) in enumerate(boxes):
+        for n2, c2, h2, y2 in boxes[i + 1:]:
             if n1 == n2:
                 continue
-            depth = h1 + h2 - np.abs(c1 - c2)
+            depth = _overlap(c1, h1, y1, c2, h2, y2)
             if np.all(depth > 0.005):
                 raise ConfigError(f"furniture {n1!r} and {n2!r} overlap "
                                   f"(by {float(depth.min()) * 1000:.0f} mm)", where=at(f"furniture.{n2}"))
+
+
+def _overlap(c1, h1, yaw1: float, c2, h2, yaw2: float) -> np.ndarray:
+    """How far two boxes turned about z (centres, half sizes [m], yaws [deg]) overlap along each separating
+    axis [m]: z and the four edge directions of their footprints (two boxes standing upright are apart
+    exactly when one of these is <= 0). Unturned boxes: the overlap along x, y, z."""
+    if yaw1 == 0.0 and yaw2 == 0.0:
+        return h1 + h2 - np.abs(c1 - c2)
+    d = c2[:2] - c1[:2]
+    out = [h1[2] + h2[2] - abs(c1[2] - c2[2])]
+    for yaw in (yaw1, yaw2):
+        for a in (math.radians(yaw), math.radians(yaw + 90.0)):
+            u = np.array([math.cos(a), math.sin(a)])
+            reach = sum(_extent(h, y, u) for h, y in ((h1, yaw1), (h2, yaw2)))
+            out.append(reach - abs(float(d @ u)))
+    return np.array(out)
+
+
+def _extent(half, yaw: float, u: np.ndarray) -> float:
+    """Half the width [m] of a footprint (``half`` sizes along its axes, turned by ``yaw`` [deg]) along the
+    unit direction ``u`` (2,)."""
+    a = math.radians(yaw)
+    return half[0] * abs(u[0] * math.cos(a) + u[1] * math.sin(a)) + half[1] * abs(-u[0] * math.sin(a)
+                                                                                 + u[1] * math.cos(a))
+
+
+def _in_box(point: np.ndarray, centre: np.ndarray, yaw: float) -> np.ndarray:
+    """The world ``point`` (3,) [m] relative to a box's ``centre``, in the box's frame turned by ``yaw``
+    [deg]."""
+    d = point - centre
+    if yaw == 0.0:
+        return d
+    c, s = math.cos(math.radians(yaw)), math.sin(math.radians(yaw))
+    return np.array([c * d[0] + s * d[1], -s * d[0] + c * d[1], d[2]])
 
 
 def _check_part_pose(spec: CellSpec, p: Part, surfaces, where: str) -> None:

@@ -38,6 +38,7 @@ from ergosim.scenes.cellcheck import TURN_TIME_MAX, check_cell
 from ergosim.scenes.cellspec import (
     COUPLINGS,
     SHAPES,
+    SHELF_BACKS,
     Action,
     Box,
     CellSpec,
@@ -49,6 +50,13 @@ from ergosim.scenes.cellspec import (
     Target,
     View,
     Worker,
+)
+from ergosim.scenes.meshes import (
+    MAX_MESH_TRIANGLES,
+    MESH_SUFFIXES,
+    is_binary_stl,
+    mesh_triangles,
+    read_mesh,
 )
 from ergosim.schema.document import check_table, override, paths
 from ergosim.schema.values import AXES
@@ -64,9 +72,6 @@ MAX_PART_MASS = 100.0
 al. 1993), far beyond what is carried by hand in an assembly cell; 1e30 kg made the physics diverge)."""
 MAX_DENSITY = 22_590.0
 """Densest part material [kg/m^3]: osmium, the densest element (CRC Handbook of Chemistry and Physics)."""
-MAX_MESH_TRIANGLES = 50_000
-"""Most triangles of a part's STL mesh (assumed: the bundled robot meshes have at most 1,176; a 199,000-
-triangle STL, under MuJoCo's cap of 200,000, kept the build busy past 240 s)."""
 
 
 def read_cell_file(path: str | os.PathLike[str]) -> dict[str, Any]:
@@ -193,6 +198,11 @@ def _furniture(name: str, t: Any, where: str):
                 "box": ("center", "half")}[kind]
     f = check_table(FURNITURE[kind], t, where, required)
     f.pop("type", None)
+    if f.get("back", "-y") not in SHELF_BACKS:
+        raise ConfigError(f"the side the top ledge stands against is one of {', '.join(SHELF_BACKS)} (in the "
+                          f"shelf's own frame), got {f['back']!r}", where=f"{where}.back")
+    if not -360.0 <= f.get("yaw", 0.0) <= 360.0:
+        raise ConfigError(f"yaw must be in [-360, 360] deg, got {f['yaw']:g}", where=f"{where}.yaw")
     return {"table": Table, "shelf": Shelf, "box": Box}[kind](name=name, **f)
 
 
@@ -248,13 +258,16 @@ def _part(name: str, t: Any, where: str) -> Part:
     if part.shape == "mesh":
         if not Path(part.file).is_file():
             raise ConfigError(f"no such mesh file {part.file!r}", where=f"{where}.file")
-        if not part.file.lower().endswith(".stl"):
-            raise ConfigError(f"meshes are STL files, got {part.file!r}", where=f"{where}.file")
-        n = _stl_triangles(Path(part.file))
+        if not part.file.lower().endswith(MESH_SUFFIXES):
+            raise ConfigError(f"meshes are STL (binary or ASCII) or OBJ files, got {part.file!r}",
+                              where=f"{where}.file")
+        n = mesh_triangles(Path(part.file))
         if n > MAX_MESH_TRIANGLES:
             raise ConfigError(f"{part.file!r} has {n} triangles, more than the limit of {MAX_MESH_TRIANGLES} "
-                              "(ergosim.scenes.cellfile.MAX_MESH_TRIANGLES; simplify the mesh)",
+                              "(ergosim.scenes.meshes.MAX_MESH_TRIANGLES; simplify the mesh)",
                               where=f"{where}.file")
+        if not is_binary_stl(Path(part.file)):
+            read_mesh(Path(part.file), where=f"{where}.file")  # a malformed file fails here, not in MuJoCo
     if part.total_mass() is None and part.density is None:
         raise ConfigError("give mass [kg] or density [kg/m^3]", where=where)
     if (part.total_mass() or 1.0) <= 0 or (part.density is not None and part.density <= 0):
@@ -274,16 +287,6 @@ def _part(name: str, t: Any, where: str) -> Part:
 
 _SLOT_GAP = 0.005
 """Least distance between two slots' seats on one part [m] (assumed: the 5 mm the overlap checks allow)."""
-
-
-def _stl_triangles(path: Path) -> int:
-    """Triangles of the STL file at ``path``: a binary STL's count (bytes 80-84), or an ASCII STL's facets."""
-    with path.open("rb") as f:
-        head = f.read(84)
-    size = path.stat().st_size
-    if len(head) == 84 and size == 84 + 50 * int.from_bytes(head[80:84], "little"):
-        return int.from_bytes(head[80:84], "little")
-    return path.read_bytes().count(b"endfacet")
 
 
 def _target(name: str, t: Any, where: str) -> Target:

@@ -16,29 +16,20 @@ import numpy as np
 from ergosim.errors import ConfigError
 from ergosim.robot.ssm import SSMParams
 from ergosim.scenes.action_kinds import ACTION_KINDS
+from ergosim.scenes.surface import Surface, turned
 
 __all__ = ["Surface", "Table", "Shelf", "Box", "Slot", "Part", "Target", "Worker", "Robot", "Action", "View",
-           "CellSpec", "ACTION_KINDS", "SHAPES", "Furniture"]
+           "CellSpec", "ACTION_KINDS", "SHAPES", "Furniture", "SHELF_BACKS"]
 
 SHAPES = ("box", "cylinder", "mesh", "socket_block")
-
-
-@dataclasses.dataclass(frozen=True)
-class Surface:
-    """A horizontal support: centre (x, y) [m], size (along x, along y) [m], top height [m]."""
-
-    name: str
-    center: tuple[float, float]
-    size: tuple[float, float]
-    height: float
-
-    def contains(self, xy, margin: float = 0.0) -> bool:
-        return all(abs(xy[i] - self.center[i]) <= self.size[i] / 2 - margin for i in range(2))
+SHELF_BACKS = ("-y", "+y", "-x", "+x")
+"""The sides of its own frame a shelf's top ledge may stand against (``back``)."""
 
 
 @dataclasses.dataclass(frozen=True)
 class Table:
-    """A slab whose top is at ``height`` on four legs (or none): one surface named after it."""
+    """A slab whose top is at ``height`` on four legs (or none), turned by ``yaw`` [deg] about its centre:
+    one surface named after it."""
 
     name: str
     center: tuple[float, float]
@@ -47,20 +38,23 @@ class Table:
     thickness: float = 0.04
     legs: bool = True
     rgba: tuple[float, ...] = (0.72, 0.6, 0.45, 1.0)
+    yaw: float = 0.0
 
     def surfaces(self) -> list[Surface]:
-        return [Surface(self.name, self.center, self.size, self.height)]
+        return [Surface(self.name, self.center, self.size, self.height, self.yaw)]
 
-    def boxes(self) -> list[tuple[np.ndarray, np.ndarray]]:
-        """(centre (3,), half sizes (3,)) of every solid box [m], for overlap checks."""
+    def boxes(self) -> list[tuple[np.ndarray, np.ndarray, float]]:
+        """(centre (3,) [m], half sizes (3,) [m] along the box's own axes, yaw [deg] about z) of every solid
+        box, for overlap checks, the standing area and the worker's obstacles."""
         (cx, cy), (sx, sy), h, t = self.center, self.size, self.height, self.thickness
-        return [(np.array([cx, cy, h - t / 2]), np.array([sx / 2, sy / 2, t / 2]))]
+        return [(np.array([cx, cy, h - t / 2]), np.array([sx / 2, sy / 2, t / 2]), self.yaw)]
 
 
 @dataclasses.dataclass(frozen=True)
 class Shelf:
     """A stepped shelf: a full lower ledge at ``low_height`` on legs, and a top ledge at ``height`` covering
-    only ``top_depth`` [m] of the footprint from its back (-y side), on four posts. Surfaces ``<name>_top``,
+    only ``top_depth`` [m] of the footprint from its ``back`` side (-y, +y, -x or +x of its own frame), on
+    four posts; the whole turned by ``yaw`` [deg] about ``center``. Surfaces ``<name>_top``,
     ``<name>_low``."""
 
     name: str
@@ -71,28 +65,43 @@ class Shelf:
     top_depth: float
     thickness: float = 0.03
     rgba: tuple[float, ...] = (0.72, 0.6, 0.45, 1.0)
+    yaw: float = 0.0
+    back: Literal["-y", "+y", "-x", "+x"] = "-y"
+
+    @property
+    def depth(self) -> float:
+        """The footprint's extent [m] across the back side (along y for a -y or +y back, else along x)."""
+        return self.size[1] if self.back[1] == "y" else self.size[0]
 
     def ledges(self) -> tuple[Surface, Surface]:
-        (cx, cy), (sx, sy) = self.center, self.size
-        low = Surface(f"{self.name}_low", (cx, cy), (sx, sy), self.low_height)
-        back = cy - sy / 2
-        top = Surface(f"{self.name}_top", (cx, back + self.top_depth / 2), (sx, self.top_depth), self.height)
+        (cx, cy), (sx, sy), d = self.center, self.size, self.top_depth
+        low = Surface(f"{self.name}_low", (cx, cy), (sx, sy), self.low_height, self.yaw)
+        sign = -1.0 if self.back[0] == "-" else 1.0
+        if self.back[1] == "y":
+            offset, size = (0.0, sign * (sy / 2 - d / 2)), (sx, d)
+        else:
+            offset, size = (sign * (sx / 2 - d / 2), 0.0), (d, sy)
+        if self.back == "-y" and self.yaw == 0.0:
+            centre = (cx, cy - sy / 2 + d / 2)  # the arithmetic of the original -y ledge, bit for bit
+        else:
+            centre = turned(self.center, offset, self.yaw)
+        top = Surface(f"{self.name}_top", centre, size, self.height, self.yaw)
         return top, low
 
     def surfaces(self) -> list[Surface]:
         return list(self.ledges())
 
-    def boxes(self) -> list[tuple[np.ndarray, np.ndarray]]:
+    def boxes(self) -> list[tuple[np.ndarray, np.ndarray, float]]:
         t = self.thickness
-        return [(np.array([*s.center, s.height - t / 2]), np.array([s.size[0] / 2, s.size[1] / 2, t / 2]))
-                for s in self.ledges()]
+        return [(np.array([*s.center, s.height - t / 2]), np.array([s.size[0] / 2, s.size[1] / 2, t / 2]),
+                 self.yaw) for s in self.ledges()]
 
 
 @dataclasses.dataclass(frozen=True)
 class Box:
     """A solid box: centre (x, y, z) and half sizes [m], whose top is a surface named after it; optionally
     on a post (``stand_half`` (x, y) half sizes, offset ``stand_offset`` (x, y) from the centre) down to
-    surface ``stand_to`` (a monitor)."""
+    surface ``stand_to`` (a monitor); turned by ``yaw`` [deg] about its centre (the post with it)."""
 
     name: str
     center: tuple[float, float, float]
@@ -101,14 +110,15 @@ class Box:
     stand_to: str | None = None
     stand_offset: tuple[float, float] = (0.0, 0.0)
     stand_half: tuple[float, float] = (0.015, 0.04)
+    yaw: float = 0.0
 
     def surfaces(self) -> list[Surface]:
         """Its top face, named after it (a riser on a bench holds parts)."""
         (x, y, z), (hx, hy, hz) = self.center, self.half
-        return [Surface(self.name, (x, y), (2 * hx, 2 * hy), z + hz)]
+        return [Surface(self.name, (x, y), (2 * hx, 2 * hy), z + hz, self.yaw)]
 
-    def boxes(self) -> list[tuple[np.ndarray, np.ndarray]]:
-        return [(np.array(self.center, dtype=float), np.array(self.half, dtype=float))]
+    def boxes(self) -> list[tuple[np.ndarray, np.ndarray, float]]:
+        return [(np.array(self.center, dtype=float), np.array(self.half, dtype=float), self.yaw)]
 
 
 Furniture = Table | Shelf | Box

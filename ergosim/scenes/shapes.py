@@ -1,4 +1,4 @@
-"""Part bodies from their shape: box, cylinder, STL mesh, socket block; each with its grasp sites.
+"""Part bodies from their shape: box, cylinder, mesh (STL or OBJ), socket block; each with its grasp sites.
 
 A part is a free body whose frame is its centre. Visual geoms are group 2; the collision geoms (group 3)
 carry the parts' own collision bits (:data:`PART_COLLISION`). Grasp sites give the TCP pose of a top-down
@@ -18,10 +18,13 @@ weld within tolerance, not a contact simulation of a 0.5 mm fit).
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import mujoco
 import numpy as np
 
 from ergosim.scenes.cellspec import Part
+from ergosim.scenes.meshes import is_binary_stl, read_mesh
 
 __all__ = ["PART_COLLISION", "add_part_body"]
 
@@ -55,8 +58,7 @@ def add_part_body(spec: mujoco.MjSpec, part: Part, pos, quat) -> mujoco.MjsBody:
         body.add_geom(name=f"{part.name}_geom", type=mujoco.mjtGeom.mjGEOM_CYLINDER,
                       size=[part.radius, part.length / 2], rgba=rgba, **inertial, **PART_COLLISION)
     else:
-        mesh = spec.add_mesh(name=f"{part.name}_mesh", file=str(part.file), scale=[part.scale] * 3)
-        del mesh
+        _add_mesh(spec, part)
         body.add_geom(name=f"{part.name}_geom", type=mujoco.mjtGeom.mjGEOM_MESH, meshname=f"{part.name}_mesh",
                       rgba=rgba, **inertial, **PART_COLLISION)
     hx, _, hz = part.half_extents
@@ -68,6 +70,18 @@ def add_part_body(spec: mujoco.MjSpec, part: Part, pos, quat) -> mujoco.MjsBody:
     elif part.insert_axis == "z":
         body.add_site(name=f"{part.name}_grasp_end", pos=top, quat=_DOWN_Z, group=4)
     return body
+
+
+def _add_mesh(spec: mujoco.MjSpec, part: Part) -> None:
+    """The mesh asset ``<part>_mesh``: a binary STL by its file, any other by the vertices and triangles
+    trimesh reads from it (:mod:`ergosim.scenes.meshes`)."""
+    path = Path(part.file)
+    if is_binary_stl(path):
+        spec.add_mesh(name=f"{part.name}_mesh", file=str(part.file), scale=[part.scale] * 3)
+        return
+    vertices, faces = read_mesh(path, where=f"parts.{part.name}.file")
+    spec.add_mesh(name=f"{part.name}_mesh", uservert=vertices.ravel().tolist(),
+                  userface=faces.ravel().tolist(), scale=[part.scale] * 3)
 
 
 def _socket_block(body: mujoco.MjsBody, part: Part, rgba: list[float]) -> None:

@@ -188,8 +188,8 @@ class Worker:
         if self._cell_ik is None or self._cell_ik[0] is not config:
             origin, r_frame = self._frame(scene)
             yaw = float(np.degrees(np.arctan2(r_frame[1, 0], r_frame[0, 0])))
-            boxes = [(r_frame.T @ (np.asarray(c, dtype=float) - origin), h, -yaw)
-                     for f in config.furniture for c, h in f.boxes()]
+            boxes = [(r_frame.T @ (np.asarray(c, dtype=float) - origin), h, box_yaw - yaw)
+                     for f in config.furniture for c, h, box_yaw in f.boxes()]
             built = ik_model(self.subject.spec(), boxes)
             ik = WholeBodyIK(built.model, self.subject.prior(), segments=built.segments,
                              obstacles=built.obstacles, forearms=built.forearms, **self._ik_args)

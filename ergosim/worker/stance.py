@@ -158,8 +158,8 @@ def area_of_cell(spec, stature: float) -> StandingArea:
                               "x_min <= 0 <= x_max and y_min <= 0 <= y_max", where="worker.standing_area")
         return StandingArea((x0, x1), (y0, y1), (-turn, turn))
     low, high = KNEE_FRACTION * stature, SHOULDER_FRACTION * stature
-    feet = [rotated_footprint(c[:2], h[:2], 0.0, w.xy, w.yaw)
-            for f in spec.furniture for c, h in f.boxes() if c[2] - h[2] < high and c[2] + h[2] > low]
+    feet = [rotated_footprint(c[:2], h[:2], yaw, w.xy, w.yaw)
+            for f in spec.furniture for c, h, yaw in f.boxes() if c[2] - h[2] < high and c[2] + h[2] > low]
     return area_from_footprints(feet, stature, turn)
 
 
