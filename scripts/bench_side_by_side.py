@@ -38,11 +38,12 @@ def main() -> int:
     parser.add_argument("baseline", help="git revision")
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--json", type=Path, default=None)
-    parser.add_argument("command", nargs=argparse.REMAINDER, help="-- SCRIPT [ARGS]")
-    a = parser.parse_args()
-    command = a.command[1:] if a.command[:1] == ["--"] else a.command
-    if not command:
+    argv = sys.argv[1:]
+    if "--" not in argv or argv.index("--") == len(argv) - 1:
         parser.error("give the benchmark after --, e.g. -- scripts/bench_sim.py --repeats 1")
+    cut = argv.index("--")
+    a = parser.parse_args(argv[:cut])
+    command = argv[cut + 1:]
     script, args = command[0], command[1:]
     tmp = tempfile.mkdtemp(prefix="ergosim-baseline-")
     subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", tmp, a.baseline], check=True,
