@@ -120,10 +120,10 @@ def action_wear(run_dir: str | Path) -> dict[str, tuple[float, float, int]]:
     out: dict[str, list] = {}
     human = np.flatnonzero((alloc["agent"] == "human") & (alloc["status"] == "done"))
     for k in human:
-        same = ((t["subject"] == alloc["subject"][k]) & (t["mode"] == alloc["mode"][k])
-                & (t["repetition"] == alloc["repetition"][k]))
+        run = (t["subject"] == alloc["subject"][k]) & (t["mode"] == alloc["mode"][k])
+        same = run & (t["repetition"] == alloc["repetition"][k])
         inside = same & (t["t"] > alloc["t_start"][k]) & (t["t"] <= alloc["t_end"][k] + 1e-9)
-        before = same & (t["t"] <= alloc["t_start"][k] + 1e-9)
+        before = run & (t["t"] <= alloc["t_start"][k] + 1e-9)  # V carries over from the repetition before
         if not inside.any():
             continue
         v0 = v[before][-1] if before.any() else 0.0
