@@ -10,6 +10,7 @@ in a schema model it validates that field, and a mistake becomes one line naming
 
 from __future__ import annotations
 
+import abc
 import math
 import types
 import typing
@@ -71,12 +72,13 @@ def _items(raw: str, key: str) -> list[str]:
     return items
 
 
-class Kind:
+class Kind(abc.ABC):
     """A value kind. :meth:`check` a file's value (``name``: the field, for messages), :meth:`parse` an
     override string (``key``: the key as the user wrote it)."""
 
+    @abc.abstractmethod
     def check(self, raw: Any, name: str) -> Any:
-        raise NotImplementedError
+        """The checked value of ``raw``, or :class:`Invalid` saying what is wrong."""
 
     def parse(self, raw: str, key: str) -> Any:
         return self.check(raw, key)
